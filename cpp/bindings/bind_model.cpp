@@ -1,0 +1,74 @@
+// BrushModel: one Python property per row of the parameter table, each range-checked on set.
+#include <pybind11/eigen.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "brushwork/model.hpp"
+
+namespace py = pybind11;
+using brushwork::BrushModel;
+
+void bind_model(py::module_& m) {
+  auto cls = py::class_<BrushModel>(m, "BrushModel", R"doc(
+Read-only parameters of one tuft (lengths in mm, forces in N, energies in N*mm, angles in deg).
+Build one with BrushModel.preset(name) and change fields by keyword:
+BrushModel.preset("medium").replace(exponent=3). Every field is range-checked; see
+BrushModel.parameters() for the table of units, ranges and meanings.)doc");
+  cls.def(py::init<>(), "The default model (the 'medium' preset).")
+      .def_static("preset", &BrushModel::preset, py::arg("name"),
+                  "A named preset; BrushModel.presets() lists them.")
+      .def_static("presets", &BrushModel::preset_names, "Names of the presets.")
+      .def("validate", &BrushModel::validate, "Raise ValueError naming any out-of-range field.")
+      .def("segment_lengths", &BrushModel::segment_lengths, "(n,) mm, root first.")
+      .def("node_radii", &BrushModel::node_radii, "(n+1,) mm, initial tuft radius r_i at spine node N_i.")
+      .def("node_arclength", &BrushModel::node_arclength, "(n+1,) mm from the root along the unbent spine.")
+      .def("bend_kappa", &BrushModel::bend_kappa, "(n,) N*mm/rad^m, bend spring constants, root first.")
+      .def("__copy__", [](const BrushModel& s) { return BrushModel(s); })
+      .def("copy", [](const BrushModel& s) { return BrushModel(s); }, "An independent copy.")
+      .def_static(
+          "parameters",
+          [] {
+            py::list out;
+            for (const auto& p : brushwork::param_table()) {
+              py::dict d;
+              d["name"] = p.name, d["unit"] = p.unit, d["kind"] = p.kind, d["doc"] = p.doc;
+              d["min"] = p.lo, d["max"] = p.hi;
+              out.append(d);
+            }
+            return out;
+          },
+          "The parameter table: a list of dicts with name, unit, kind, min, max, doc.");
+
+  // one property per parameter, typed as the table says
+  for (const auto& p : brushwork::param_table()) {
+    const std::string name = p.name, kind = p.kind;
+    const std::string doc = p.doc + " [" + p.unit + ", " + std::to_string(p.lo) + " .. " +
+                            std::to_string(p.hi) + "]";
+    py::cpp_function getter(
+        [name, kind](const BrushModel& mdl) -> py::object {
+          const double v = brushwork::get_param(mdl, name);
+          if (kind == "int") return py::int_(static_cast<long>(v));
+          if (kind == "bool") return py::bool_(v != 0.0);
+          return py::float_(v);
+        },
+        py::is_method(cls));
+    py::cpp_function setter(
+        [name, kind](BrushModel& mdl, py::object value) {
+          if (kind == "bool" && !py::isinstance<py::bool_>(value))
+            throw std::invalid_argument("BrushModel." + name + " must be True or False, got " +
+                                        py::repr(value).cast<std::string>());
+          double v;
+          try {
+            v = value.cast<double>();
+          } catch (const py::cast_error&) {
+            throw std::invalid_argument("BrushModel." + name + " must be a number, got " +
+                                        py::repr(value).cast<std::string>());
+          }
+          brushwork::set_param(mdl, name, v);
+        },
+        py::is_method(cls));
+    cls.attr(name.c_str()) = py::reinterpret_steal<py::object>(
+        PyObject_CallFunctionObjArgs((PyObject*)&PyProperty_Type, getter.ptr(), setter.ptr(),
+                                     Py_None, py::str(doc).ptr(), nullptr));
+  }
+}

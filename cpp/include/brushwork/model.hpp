@@ -1,0 +1,84 @@
+// BrushModel: the read-only parameters of one tuft (what the brush *is*), after MuJoCo's
+// mjModel/mjData split.  Every field is listed once in param_table() with its unit, range and
+// meaning; validation, the Python docs and the README table are all made from that table.
+//
+// Units: lengths in mm, forces in N, energies in N*mm (= mJ), angles in degrees at the
+// interface and radians inside.
+#pragma once
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace brushwork {
+
+struct BrushModel {
+  // --- geometry (seed "Brush geometry", Figures 2-3) ---
+  int n_segments = 6;                   // spine segments n
+  double tuft_length = 30.0;            // mm, root to tip, unbent
+  double belly_radius = 4.0;            // mm, largest initial tuft radius r
+  double belly_position = 0.3;          // fraction of the length from the root where r peaks
+  double tip_radius_fraction = 0.04;    // tip radius / belly radius
+  double segment_ratio = 0.8;           // length of segment j+1 / length of segment j (< 1: shorter toward tip)
+  double lateral_radius_fraction = 0.35;  // r_lat / r_i, effective radius of a lateral node
+  double collision_shrink = 0.55;       // Phi_i / Omega_i: shrunk sections used for collision
+
+  // --- strain energy (seed "Energy Functions") ---
+  double exponent = 2.0;                // m in kappa |theta|^m
+  double bend_stiffness = 3.0;          // N*mm/rad^m, kappa of the bend spring at the root
+  double stiffness_ratio = 20.0;        // root : tip bend stiffness (geometric in between)
+  double twist_stiffness = 0.5;         // twist kappa / bend kappa at the same joint (none at the root)
+  double stretch_stiffness = 2.0;       // N*mm/mm^m, kappa of the stretch spring |delta^2 - S|^m at the belly
+  double lateral_bend_stiffness = 0.5;  // N*mm, bend springs between consecutive lateral nodes
+  double spread_gain = 1.0;             // S at full press, as a fraction of r_i
+  double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
+
+  // --- dissipation ---
+  double internal_friction = 0.3;       // internal-friction kappa / spring kappa (same form, on the change since last frame)
+  double friction_along = 0.25;         // mu for drag along the hairs
+  double friction_side = 0.6;           // mu for drag across the hairs
+  double wet_adhesion = 0.02;           // N added to R_i per unit p_i of a wet node
+  double friction_smoothing = 0.01;     // mm, x_i = sqrt(|dx|^2 + eps^2) - eps keeps the friction energy smooth
+
+  // --- plasticity and pore resistance ---
+  double plasticity_alpha = 2.0;        // deg, alpha in rho = clamp(theta', -alpha, alpha)
+  double pore_a = 5.0;                  // mm/rad, L = a t + b u + c
+  double pore_b = 1.0;                  // mm/N
+  double pore_c = 0.2;                  // mm
+  double pore_gamma = 20.0;             // deg, critical tilt gamma within which pores trap the tip
+
+  // --- features a scene may leave out ---
+  bool lateral_spreading = true;        // stretch DOFs delta_i (off: seed Figure 1c)
+  bool collision = true;                // non-penetration constraints (off: seed Figure 1d)
+  bool pore_resistance = true;          // blocking plane ahead of the tip
+
+  // --- solver (seed "Real-time simulation") ---
+  int q_max = 20;                       // SQP iterations per frame
+  double tolerance = 1e-6;              // KKT residual (scaled, see kkt_residual) to stop
+  bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
+
+  // throws std::invalid_argument naming the field and the value
+  void validate() const;
+
+  // derived per-node arrays
+  Eigen::VectorXd segment_lengths() const;  // (n,) mm, root first, shorter toward the tip
+  Eigen::VectorXd node_radii() const;       // (n+1,) mm, initial tuft radius r_i at spine node N_i
+  Eigen::VectorXd node_arclength() const;   // (n+1,) mm, distance from the root along the unbent spine
+  Eigen::VectorXd bend_kappa() const;       // (n,) N*mm/rad^m, kappa at joints 0..n-1, root stiffest
+
+  static BrushModel preset(const std::string& name);
+  static std::vector<std::string> preset_names();
+};
+
+// One row of the parameter table.
+struct ParamInfo {
+  std::string name, unit, kind, doc;  // kind: "float", "int" or "bool"
+  double lo, hi;                      // inclusive range (bools: 0..1)
+};
+const std::vector<ParamInfo>& param_table();
+double get_param(const BrushModel& m, const std::string& name);
+void set_param(BrushModel& m, const std::string& name, double value);  // validates range
+
+constexpr int kMaxSegments = 16;
+
+}  // namespace brushwork

@@ -1,0 +1,350 @@
+// Swept surface of one tuft through its elliptic cross sections Omega_i, and the footprint
+// loops where that surface crosses the paper plane z = 0.
+#include "brushwork/geometry.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace brushwork {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+using LoopMatrix = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+// throw std::invalid_argument naming the section index and the field
+[[noreturn]] void bad_section(std::size_t i, const char* field, const std::string& why) {
+  std::ostringstream os;
+  os << "sweep_surface: section " << i << ": field '" << field << "' " << why;
+  throw std::invalid_argument(os.str());
+}
+
+// a finite vector of non-zero length, returned normalised
+Vec3 checked_direction(const Vec3& v, std::size_t i, const char* field) {
+  if (!v.allFinite()) bad_section(i, field, "is not finite");
+  const double len = v.norm();
+  if (!(len > 1e-12)) bad_section(i, field, "has zero length (must be a unit vector)");
+  return v / len;
+}
+
+// a finite, strictly positive radius
+double checked_radius(double r, std::size_t i, const char* field) {
+  if (!std::isfinite(r)) bad_section(i, field, "is not finite");
+  if (!(r > 0.0)) {
+    std::ostringstream os;
+    os << "must be > 0 (got " << r << ")";
+    bad_section(i, field, os.str());
+  }
+  return r;
+}
+
+// some unit vector perpendicular to the unit vector t
+Vec3 any_perpendicular(const Vec3& t) {
+  const Vec3 axis = std::abs(t.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY();
+  return (axis - axis.dot(t) * t).normalized();
+}
+
+// normalised linear blend (1-s) a + s b of two unit vectors; when the blend nearly vanishes
+// (a and b nearly opposite, s near 1/2) fall back to the nearer endpoint instead of a NaN
+Vec3 blend_unit(const Vec3& a, const Vec3& b, double s) {
+  const Vec3 m = (1.0 - s) * a + s * b;
+  const double len = m.norm();
+  if (len > 1e-6) return m / len;
+  return s <= 0.5 ? a : b;
+}
+
+// unordered mesh-edge key (smaller index in the high word)
+inline std::uint64_t edge_key(int i, int j) {
+  const std::uint32_t lo = static_cast<std::uint32_t>(i < j ? i : j);
+  const std::uint32_t hi = static_cast<std::uint32_t>(i < j ? j : i);
+  return (static_cast<std::uint64_t>(lo) << 32) | hi;
+}
+
+}  // namespace
+
+SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOptions& opt) {
+  // validate the options and the sections Omega_i
+  const std::size_t S = sections.size();
+  if (S < 2) {
+    std::ostringstream os;
+    os << "sweep_surface: need at least 2 sections, got " << S;
+    throw std::invalid_argument(os.str());
+  }
+  if (opt.rings_per_segment < 1) throw std::invalid_argument("sweep_surface: rings_per_segment must be >= 1");
+  if (opt.around < 8) throw std::invalid_argument("sweep_surface: around must be >= 8");
+  const int R = opt.rings_per_segment;
+  const int A = opt.around;
+  const long long rings_ll = static_cast<long long>(S - 1) * R + 1;
+  if (rings_ll * A + 2 > 100000000LL) throw std::invalid_argument("sweep_surface: mesh too large");
+  const int NR = static_cast<int>(rings_ll);
+
+  std::vector<Vec3> C(S), U(S), W(S), N(S);
+  std::vector<double> AP(S), AM(S), CC(S);
+  for (std::size_t i = 0; i < S; ++i) {
+    const Section& sec = sections[i];
+    if (!sec.center.allFinite()) bad_section(i, "center", "is not finite");
+    C[i] = sec.center;
+    U[i] = checked_direction(sec.u, i, "u");
+    W[i] = checked_direction(sec.w, i, "w");
+    N[i] = checked_direction(sec.n, i, "n");
+    AP[i] = checked_radius(sec.a_plus, i, "a_plus");
+    AM[i] = checked_radius(sec.a_minus, i, "a_minus");
+    CC[i] = checked_radius(sec.c, i, "c");
+  }
+
+  // unit Catmull-Rom tangent directions at the centres O_i (one-sided at the two ends);
+  // zero where neighbouring centres coincide
+  std::vector<Vec3> D(S);
+  for (std::size_t i = 0; i < S; ++i) {
+    const Vec3 m = (i == 0) ? Vec3(C[1] - C[0])
+                   : (i == S - 1) ? Vec3(C[S - 1] - C[S - 2])
+                                  : Vec3(0.5 * (C[i + 1] - C[i - 1]));
+    const double len = m.norm();
+    D[i] = len > 1e-14 ? Vec3(m / len) : Vec3::Zero();
+  }
+
+  // cos / sin table for t_k = 2 pi k / around
+  std::vector<double> ct(A), st(A);
+  for (int k = 0; k < A; ++k) {
+    const double t = 2.0 * kPi * k / A;
+    ct[k] = std::cos(t);
+    st[k] = std::sin(t);
+  }
+
+  SurfaceMesh mesh;
+  const int V = NR * A + 2;
+  const int root_cap = NR * A;
+  const int apex = NR * A + 1;
+  mesh.vertices.resize(V, 3);
+  mesh.uv.resize(V, 2);
+  std::vector<Vec3> ring_center(NR);
+
+  // sweep the rings: Hermite centre, linear radii, blended and re-orthogonalised frame
+  double handed = 0.0;  // sign of w relative to T x u, fixed on the first ring
+  Vec3 prev_u = Vec3::Zero();
+  for (int j = 0; j < NR; ++j) {
+    const int seg = (j == NR - 1) ? static_cast<int>(S) - 2 : j / R;
+    const double s = (j == NR - 1) ? 1.0 : static_cast<double>(j - seg * R) / R;
+    const int i0 = seg, i1 = seg + 1;
+
+    // cubic Hermite through O_i0, O_i1 with tangents scaled by the chord length
+    const double L = (C[i1] - C[i0]).norm();
+    const Vec3 m0 = D[i0] * L, m1 = D[i1] * L;
+    const double s2 = s * s, s3 = s2 * s;
+    const Vec3 P = (2 * s3 - 3 * s2 + 1) * C[i0] + (s3 - 2 * s2 + s) * m0 +
+                   (-2 * s3 + 3 * s2) * C[i1] + (s3 - s2) * m1;
+    Vec3 T = (6 * s2 - 6 * s) * C[i0] + (3 * s2 - 4 * s + 1) * m0 + (-6 * s2 + 6 * s) * C[i1] +
+             (3 * s2 - 2 * s) * m1;
+    const double tlen = T.norm();
+    T = tlen > 1e-14 ? Vec3(T / tlen) : blend_unit(N[i0], N[i1], s);
+
+    // major axis: blended u made orthogonal to the spine tangent (Gram-Schmidt)
+    const Vec3 ub = blend_unit(U[i0], U[i1], s);
+    Vec3 u = ub - ub.dot(T) * T;
+    if (u.norm() <= 1e-9 && j > 0) u = prev_u - prev_u.dot(T) * T;
+    u = u.norm() > 1e-9 ? Vec3(u.normalized()) : any_perpendicular(T);
+    prev_u = u;
+
+    // minor axis: unit, orthogonal to T and u; its sign agrees with the blended w on the
+    // first ring and keeps the same handedness afterwards so no ring flips
+    Vec3 w = T.cross(u);
+    if (handed == 0.0) {
+      const Vec3 wb = blend_unit(W[i0], W[i1], s);
+      handed = w.dot(wb) >= 0.0 ? 1.0 : -1.0;
+    }
+    w *= handed;
+
+    // radii (a + r_lat, b + r_lat, c) interpolated linearly
+    const double ap = (1.0 - s) * AP[i0] + s * AP[i1];
+    const double am = (1.0 - s) * AM[i0] + s * AM[i1];
+    const double cr = (1.0 - s) * CC[i0] + s * CC[i1];
+
+    // ring vertices and texture coordinates
+    ring_center[j] = P;
+    const double along = static_cast<double>(j) / NR;
+    double* pv = mesh.vertices.data() + 3 * static_cast<std::ptrdiff_t>(j) * A;
+    double* pt = mesh.uv.data() + 2 * static_cast<std::ptrdiff_t>(j) * A;
+    for (int k = 0; k < A; ++k) {
+      const double x = (ct[k] >= 0.0 ? ap : am) * ct[k], y = cr * st[k];
+      pv[3 * k + 0] = P.x() + x * u.x() + y * w.x();
+      pv[3 * k + 1] = P.y() + x * u.y() + y * w.y();
+      pv[3 * k + 2] = P.z() + x * u.z() + y * w.z();
+      pt[2 * k + 0] = along;
+      pt[2 * k + 1] = static_cast<double>(k) / A;
+    }
+  }
+
+  // root cap at O_0 and the pointed tip apex beyond the last section
+  mesh.vertices.row(root_cap) = C[0].transpose();
+  mesh.uv.row(root_cap) << 0.0, 0.5;
+  const double tip_len = 0.5 * std::max(CC[S - 1], 0.5 * (AP[S - 1] + AM[S - 1]));
+  mesh.vertices.row(apex) = (C[S - 1] + N[S - 1] * tip_len).transpose();
+  mesh.uv.row(apex) << 1.0, 0.5;
+
+  // faces: two triangles per ring quad, then the root and tip fans (ring index wraps)
+  const int F = (NR - 1) * A * 2 + 2 * A;
+  mesh.faces.resize(F, 3);
+  int* pf = mesh.faces.data();
+  auto tri = [&pf](int a, int b, int c) {
+    pf[0] = a;
+    pf[1] = b;
+    pf[2] = c;
+    pf += 3;
+  };
+  for (int j = 0; j + 1 < NR; ++j) {
+    for (int k = 0; k < A; ++k) {
+      const int k1 = (k + 1 == A) ? 0 : k + 1;
+      const int a = j * A + k, b = j * A + k1, c = (j + 1) * A + k1, d = (j + 1) * A + k;
+      tri(a, b, c);
+      tri(a, c, d);
+    }
+  }
+  for (int k = 0; k < A; ++k) tri(root_cap, (k + 1 == A) ? 0 : k + 1, k);
+  const int last = (NR - 1) * A;
+  for (int k = 0; k < A; ++k) tri(apex, last + k, last + ((k + 1 == A) ? 0 : k + 1));
+
+  // winding test: geometric normals of the first non-degenerate ring interval against the
+  // outward direction (vertex minus spine point); the tip fan decides if all rings coincide
+  auto vert = [&mesh](int i) -> Vec3 { return mesh.vertices.row(i).transpose(); };
+  double outward = 0.0;
+  for (int j = 0; j + 1 < NR && outward == 0.0; ++j) {
+    const Vec3 mid = (2.0 * ring_center[j] + ring_center[j + 1]) / 3.0;
+    for (int k = 0; k < A; ++k) {
+      const Vec3 a = vert(j * A + k), b = vert(j * A + (k + 1) % A), c = vert((j + 1) * A + (k + 1) % A);
+      outward += ((b - a).cross(c - a)).dot((a + b + c) / 3.0 - mid);
+    }
+  }
+  if (outward == 0.0) {
+    const Vec3 a = vert(apex);
+    for (int k = 0; k < A; ++k) {
+      const Vec3 b = vert(last + k), c = vert(last + (k + 1) % A);
+      outward += ((b - a).cross(c - a)).dot((a + b + c) / 3.0 - C[S - 1]);
+    }
+  }
+  if (outward < 0.0) {
+    int* q = mesh.faces.data();
+    for (int g = 0; g < F; ++g, q += 3) std::swap(q[1], q[2]);
+  }
+  return mesh;
+}
+
+std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
+  const auto& Vx = mesh.vertices;
+  const auto& Fx = mesh.faces;
+  const int V = static_cast<int>(Vx.rows());
+  const int F = static_cast<int>(Fx.rows());
+
+  // one crossing segment per straddling triangle: start/end edge keys, start point
+  struct Segment {
+    std::uint64_t from, to;
+    Vec2 p;
+  };
+  std::vector<Segment> segs;
+  segs.reserve(64);
+
+  // crossing point on the edge (i, j), computed from the canonical order so both triangles
+  // of the edge get bit-identical points
+  auto cross_point = [&Vx](int i, int j) -> Vec2 {
+    if (i > j) std::swap(i, j);
+    const double zi = Vx(i, 2), zj = Vx(j, 2);
+    const double t = zi / (zi - zj);  // sides differ, so zi != zj
+    return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
+  };
+
+  // orient each segment: with outward normal N the travel direction is e_z x N, so the
+  // solid lies to the left (outer loops ccw, holes cw); for a face (A, B, C) whose lone
+  // vertex is A this means  A below: edge CA -> edge AB,  A above: edge AB -> edge CA
+  std::vector<unsigned char> up(static_cast<std::size_t>(V));
+  for (int i = 0; i < V; ++i) up[i] = Vx(i, 2) >= 0.0 ? 1 : 0;
+  const int* pf = Fx.data();
+  for (int f = 0; f < F; ++f, pf += 3) {
+    const int v[3] = {pf[0], pf[1], pf[2]};
+    if (static_cast<unsigned>(v[0]) >= static_cast<unsigned>(V) ||
+        static_cast<unsigned>(v[1]) >= static_cast<unsigned>(V) ||
+        static_cast<unsigned>(v[2]) >= static_cast<unsigned>(V)) {
+      std::ostringstream os;
+      os << "footprint_loops: face " << f << " has a vertex index out of range [0, " << V << "): (" << v[0]
+         << ", " << v[1] << ", " << v[2] << ")";
+      throw std::invalid_argument(os.str());
+    }
+    const int up0 = up[v[0]], up1 = up[v[1]], up2 = up[v[2]];
+    if (up0 == up1 && up1 == up2) continue;
+    // rotate (cyclically, keeping the winding) so the lone vertex comes first
+    const int lone = (up1 == up2) ? 0 : (up0 == up2) ? 1 : 2;
+    const int a = v[lone], b = v[(lone + 1) % 3], c = v[(lone + 2) % 3];
+    const bool lone_up = up[a] != 0;
+    const std::uint64_t kab = edge_key(a, b), kca = edge_key(c, a);
+    if (lone_up) {
+      segs.push_back({kab, kca, cross_point(a, b)});
+    } else {
+      segs.push_back({kca, kab, cross_point(c, a)});
+    }
+  }
+
+  // link segments through their shared edge keys
+  std::unordered_map<std::uint64_t, int> by_start;
+  by_start.reserve(segs.size() * 2);
+  for (int s = 0; s < static_cast<int>(segs.size()); ++s) by_start.emplace(segs[s].from, s);
+
+  std::vector<LoopMatrix> loops;
+  std::vector<char> used(segs.size(), 0);
+  std::vector<Vec2> pts;
+  pts.reserve(segs.size());
+  for (int s0 = 0; s0 < static_cast<int>(segs.size()); ++s0) {
+    if (used[s0]) continue;
+    // walk until the loop returns to its first segment; an open chain (only possible for a
+    // mesh that is not closed) is dropped
+    pts.clear();
+    int s = s0;
+    bool closed = false;
+    while (true) {
+      used[s] = 1;
+      const Vec2& p = segs[s].p;
+      // skip zero-length steps (a vertex lying exactly on the plane)
+      if (pts.empty() || (p - pts.back()).squaredNorm() > 1e-24) pts.push_back(p);
+      const auto it = by_start.find(segs[s].to);
+      if (it == by_start.end()) break;
+      s = it->second;
+      if (s == s0) {
+        closed = true;
+        break;
+      }
+      if (used[s]) break;
+    }
+    if (!closed) continue;
+    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= 1e-24) pts.pop_back();
+    if (pts.size() < 3) continue;
+
+    // emit the loop as a (k, 2) row-major matrix, first point not repeated
+    LoopMatrix m(static_cast<Eigen::Index>(pts.size()), 2);
+    for (std::size_t i = 0; i < pts.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
+    loops.push_back(std::move(m));
+  }
+  return loops;
+}
+
+double loops_area(const std::vector<LoopMatrix>& loops) {
+  // shoelace sum over every loop (ccw positive, cw negative)
+  double twice = 0.0;
+  for (const auto& L : loops) {
+    const Eigen::Index k = L.rows();
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const Eigen::Index j = (i + 1 == k) ? 0 : i + 1;
+      twice += L(i, 0) * L(j, 1) - L(j, 0) * L(i, 1);
+    }
+  }
+  return 0.5 * twice;
+}
+
+}  // namespace brushwork

@@ -1,0 +1,231 @@
+// Parameter table, validation, presets and derived per-node arrays of BrushModel.
+#include "brushwork/model.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace brushwork {
+
+namespace {
+
+// one entry: the table row plus where the value lives in the struct
+struct ParamSlot {
+  ParamInfo info;
+  double BrushModel::*d = nullptr;
+  int BrushModel::*i = nullptr;
+  bool BrushModel::*b = nullptr;
+};
+
+ParamSlot F(const char* name, const char* unit, double lo, double hi, double BrushModel::*p,
+            const char* doc) {
+  return ParamSlot{{name, unit, "float", doc, lo, hi}, p, nullptr, nullptr};
+}
+ParamSlot I(const char* name, const char* unit, double lo, double hi, int BrushModel::*p,
+            const char* doc) {
+  return ParamSlot{{name, unit, "int", doc, lo, hi}, nullptr, p, nullptr};
+}
+ParamSlot B(const char* name, bool BrushModel::*p, const char* doc) {
+  return ParamSlot{{name, "-", "bool", doc, 0.0, 1.0}, nullptr, nullptr, p};
+}
+
+const std::vector<ParamSlot>& slots() {
+  static const std::vector<ParamSlot> table = {
+      I("n_segments", "-", 2, kMaxSegments, &BrushModel::n_segments,
+        "spine segments n; shorter toward the tip"),
+      F("tuft_length", "mm", 1.0, 500.0, &BrushModel::tuft_length,
+        "length of the unbent tuft, root (ferrule) to tip"),
+      F("belly_radius", "mm", 0.1, 100.0, &BrushModel::belly_radius,
+        "largest initial tuft radius r (the belly)"),
+      F("belly_position", "-", 0.05, 0.9, &BrushModel::belly_position,
+        "where the radius peaks, as a fraction of the length from the root"),
+      F("tip_radius_fraction", "-", 0.005, 0.5, &BrushModel::tip_radius_fraction,
+        "initial radius at the tip / belly radius"),
+      F("segment_ratio", "-", 0.3, 1.0, &BrushModel::segment_ratio,
+        "length of each segment / length of the one above it"),
+      F("lateral_radius_fraction", "-", 0.05, 0.9, &BrushModel::lateral_radius_fraction,
+        "r_lat / r_i: effective radius of a lateral node"),
+      F("collision_shrink", "-", 0.05, 1.0, &BrushModel::collision_shrink,
+        "size of the collision section Phi_i relative to Omega_i (1: no penetration)"),
+      F("exponent", "-", 2.0, 3.0, &BrushModel::exponent,
+        "m in the spring energies kappa |x|^m (2 or 3 in the seed)"),
+      F("bend_stiffness", "N*mm/rad^m", 1e-6, 1e6, &BrushModel::bend_stiffness,
+        "kappa of the bend spring at the root joint"),
+      F("stiffness_ratio", "-", 1.0, 1e6, &BrushModel::stiffness_ratio,
+        "root : tip bend stiffness, geometric in between"),
+      F("twist_stiffness", "-", 0.0, 10.0, &BrushModel::twist_stiffness,
+        "twist kappa / bend kappa at the same joint (no twist spring at the root)"),
+      F("stretch_stiffness", "N*mm/mm^m", 1e-6, 1e6, &BrushModel::stretch_stiffness,
+        "kappa of the stretch springs |delta^2 - S|^m"),
+      F("lateral_bend_stiffness", "N*mm", 0.0, 1e6, &BrushModel::lateral_bend_stiffness,
+        "bend springs between consecutive lateral nodes"),
+      F("spread_gain", "-", 0.0, 5.0, &BrushModel::spread_gain,
+        "stretch rest length S at full press (p = 1), as a fraction of r_i"),
+      F("spread_bend_gain", "1/rad^2", 0.0, 10.0, &BrushModel::spread_bend_gain,
+        "extra S per rad^2 of bend at the node"),
+      F("internal_friction", "-", 0.0, 10.0, &BrushModel::internal_friction,
+        "internal-friction kappa / spring kappa, on the change since the last frame"),
+      F("friction_along", "-", 0.0, 5.0, &BrushModel::friction_along,
+        "external friction mu for drag along the hairs"),
+      F("friction_side", "-", 0.0, 5.0, &BrushModel::friction_side,
+        "external friction mu for drag across the hairs"),
+      F("wet_adhesion", "N", 0.0, 10.0, &BrushModel::wet_adhesion,
+        "added to R_i per unit p_i of a wet node (friction with zero normal force)"),
+      F("friction_smoothing", "mm", 1e-6, 1.0, &BrushModel::friction_smoothing,
+        "eps in x_i = sqrt(|dx|^2 + eps^2) - eps (keeps the friction energy smooth)"),
+      F("plasticity_alpha", "deg", 0.0, 90.0, &BrushModel::plasticity_alpha,
+        "alpha: rest angles shift to clamp(theta', -alpha, alpha)"),
+      F("pore_a", "mm/rad", 0.0, 1000.0, &BrushModel::pore_a, "a in the lead L = a t + b u + c"),
+      F("pore_b", "mm/N", 0.0, 1000.0, &BrushModel::pore_b, "b in the lead L = a t + b u + c"),
+      F("pore_c", "mm", 0.0, 1000.0, &BrushModel::pore_c, "c in the lead L = a t + b u + c"),
+      F("pore_gamma", "deg", 0.0, 90.0, &BrushModel::pore_gamma,
+        "critical tilt gamma within which the pores trap the tip"),
+      B("lateral_spreading", &BrushModel::lateral_spreading,
+        "stretch DOFs delta_i (off: no spreading, seed Figure 1c)"),
+      B("collision", &BrushModel::collision,
+        "non-penetration constraints (off: the brush passes through, seed Figure 1d)"),
+      B("pore_resistance", &BrushModel::pore_resistance,
+        "blocking plane ahead of a touching tip"),
+      I("q_max", "-", 1, 100000, &BrushModel::q_max, "SQP iterations per frame"),
+      F("tolerance", "-", 1e-14, 1e-1, &BrushModel::tolerance,
+        "scaled KKT residual at which a frame's solve stops"),
+      B("warm_hessian", &BrushModel::warm_hessian,
+        "carry the BFGS matrix across frames (off: a fresh one each frame)"),
+  };
+  return table;
+}
+
+const ParamSlot& find_slot(const std::string& name) {
+  for (const auto& s : slots())
+    if (s.info.name == name) return s;
+  throw std::invalid_argument("BrushModel has no parameter '" + name + "'");
+}
+
+double read(const BrushModel& m, const ParamSlot& s) {
+  if (s.d) return m.*(s.d);
+  if (s.i) return static_cast<double>(m.*(s.i));
+  return (m.*(s.b)) ? 1.0 : 0.0;
+}
+
+std::string fmt(double v) {
+  std::ostringstream o;
+  o << v;
+  return o.str();
+}
+
+}  // namespace
+
+const std::vector<ParamInfo>& param_table() {
+  static const std::vector<ParamInfo> infos = [] {
+    std::vector<ParamInfo> v;
+    for (const auto& s : slots()) v.push_back(s.info);
+    return v;
+  }();
+  return infos;
+}
+
+double get_param(const BrushModel& m, const std::string& name) { return read(m, find_slot(name)); }
+
+void set_param(BrushModel& m, const std::string& name, double value) {
+  const ParamSlot& s = find_slot(name);
+  // check before writing, so a bad value leaves the model as it was
+  if (!std::isfinite(value) || value < s.info.lo || value > s.info.hi)
+    throw std::invalid_argument("BrushModel." + name + " = " + fmt(value) + " is out of range [" +
+                                fmt(s.info.lo) + ", " + fmt(s.info.hi) + "] " + s.info.unit);
+  if (s.i && value != std::floor(value))
+    throw std::invalid_argument("BrushModel." + name + " = " + fmt(value) + " must be an integer");
+  if (s.b && value != 0.0 && value != 1.0)
+    throw std::invalid_argument("BrushModel." + name + " = " + fmt(value) + " must be a bool");
+  if (s.d) m.*(s.d) = value;
+  if (s.i) m.*(s.i) = static_cast<int>(value);
+  if (s.b) m.*(s.b) = value != 0.0;
+}
+
+void BrushModel::validate() const {
+  for (const auto& s : slots()) {
+    const double v = read(*this, s);
+    if (!std::isfinite(v) || v < s.info.lo || v > s.info.hi)
+      throw std::invalid_argument("BrushModel." + s.info.name + " = " + fmt(v) +
+                                  " is out of range [" + fmt(s.info.lo) + ", " + fmt(s.info.hi) +
+                                  "] " + s.info.unit);
+  }
+}
+
+Eigen::VectorXd BrushModel::segment_lengths() const {
+  // l_j proportional to segment_ratio^j, summing to the tuft length
+  Eigen::VectorXd l(n_segments);
+  double sum = 0.0;
+  for (int j = 0; j < n_segments; ++j) sum += (l[j] = std::pow(segment_ratio, j));
+  return l * (tuft_length / sum);
+}
+
+Eigen::VectorXd BrushModel::node_arclength() const {
+  Eigen::VectorXd l = segment_lengths(), s(n_segments + 1);
+  s[0] = 0.0;
+  for (int j = 0; j < n_segments; ++j) s[j + 1] = s[j] + l[j];
+  return s;
+}
+
+Eigen::VectorXd BrushModel::node_radii() const {
+  // a Chinese brush profile: 0.8 r at the ferrule, swelling to the belly r at belly_position,
+  // then tapering smoothly to tip_radius_fraction * r at the tip
+  const Eigen::VectorXd s = node_arclength() / tuft_length;
+  Eigen::VectorXd r(n_segments + 1);
+  const double pi = 3.14159265358979323846;
+  for (int i = 0; i <= n_segments; ++i) {
+    const double t = s[i];
+    double f;
+    if (t <= belly_position) {
+      f = 0.8 + 0.2 * std::sin(0.5 * pi * t / belly_position);
+    } else {
+      const double q = std::cos(0.5 * pi * (t - belly_position) / (1.0 - belly_position));
+      f = tip_radius_fraction + (1.0 - tip_radius_fraction) * std::pow(std::max(q, 0.0), 0.9);
+    }
+    r[i] = belly_radius * std::max(f, tip_radius_fraction);
+  }
+  return r;
+}
+
+Eigen::VectorXd BrushModel::bend_kappa() const {
+  // root stiffest; kappa_j = kappa_root * ratio^(-j/(n-1)) reaches kappa_root/ratio at the last joint
+  Eigen::VectorXd k(n_segments);
+  for (int j = 0; j < n_segments; ++j)
+    k[j] = bend_stiffness *
+           std::pow(stiffness_ratio, -static_cast<double>(j) / std::max(1, n_segments - 1));
+  return k;
+}
+
+std::vector<std::string> BrushModel::preset_names() { return {"small", "medium", "large"}; }
+
+BrushModel BrushModel::preset(const std::string& name) {
+  BrushModel m;  // the defaults are the medium brush
+  if (name == "medium") return m;
+  if (name == "small") {
+    // a small, stiff wolf-hair brush (xiaokai): short, thin, springy
+    m.tuft_length = 18.0;
+    m.belly_radius = 2.2;
+    m.bend_stiffness = 2.0;
+    m.stiffness_ratio = 10.0;
+    m.stretch_stiffness = 4.0;
+    m.lateral_bend_stiffness = 0.3;
+    m.plasticity_alpha = 1.0;
+    return m;
+  }
+  if (name == "large") {
+    // a large, soft goat-hair brush: long, wide, a supple tip that keeps its bend
+    m.tuft_length = 50.0;
+    m.belly_radius = 7.0;
+    m.bend_stiffness = 2.5;
+    m.stiffness_ratio = 40.0;
+    m.stretch_stiffness = 1.0;
+    m.lateral_bend_stiffness = 0.5;
+    m.plasticity_alpha = 4.0;
+    m.wet_adhesion = 0.03;
+    return m;
+  }
+  std::string known;
+  for (const auto& n : preset_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown brush preset '" + name + "' (known: " + known + ")");
+}
+
+}  // namespace brushwork

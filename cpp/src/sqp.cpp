@@ -1,0 +1,367 @@
+// Local SQP for one frame (seed "Energy minimization problems", "Real-time simulation").
+//
+// Each iteration solves the QP   min_p  1/2 p^T B p + grad_f^T p   s.t.  g + J p >= -s, s >= 0,
+// with penalty nu * sum(s) (Fletcher's Sl1QP: always feasible, consistent with the merit
+// phi(x) = f(x) + nu * sum max(0, -g_i(x))).  B = L_xx is the damped-BFGS approximation of the
+// Lagrangian's Hessian, kept as its inverse H so that the QP is solved exactly through its small
+// dual: with p = H (J^T lambda - grad_f), lambda minimises
+//     1/2 lambda^T (J H J^T) lambda + (g - J H grad_f)^T lambda   over the box 0 <= lambda <= nu,
+// an m x m problem (m = n sections + the pore plane) solved by a primal active-set method.
+// A backtracking line search on phi accepts the step; H carries into the next frame.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "brushwork/brush.hpp"
+
+namespace brushwork {
+
+namespace {
+inline double neg_sum(const VecX& g, int m) {
+  double s = 0.0;
+  for (int i = 0; i < m; ++i) s += std::max(0.0, -g[i]);
+  return s;
+}
+inline double d2pow(double e, double m) {
+  return m == 2.0 ? 2.0 : m * (m - 1.0) * std::pow(std::abs(e), m - 2.0);
+}
+}  // namespace
+
+// H = diag(1/b): b from the separable springs' curvature at x, floored, plus a Gauss-Newton
+// estimate of the friction curvature of the contacting nodes (R mu^2 / max(eps, |drag|) times
+// the squared horizontal lever arm) so that the first steps of a dragged frame are sane.
+void Brush::fresh_hessian() {
+  const double m = m_exp_, eta = eta_;
+  const double floor_p = d2pow(0.2, m);  // curvature of |e|^m at 0.2 (rad or mm)
+  VecX b(nx_);
+  for (int j = 0; j < n_; ++j) {
+    b[2 * j] = kb_[j] * std::max(d2pow(x_[2 * j] - rest_[2 * j], m) +
+                                     eta * d2pow(x_[2 * j] - x_prev_[2 * j], m),
+                                 floor_p * (1.0 + eta));
+    b[2 * j + 1] = std::max(kt_[j], 0.1 * kb_[j]) * floor_p * (1.0 + eta);
+  }
+  for (int i = 1; i <= n_; ++i) {
+    const int k = 2 * n_ + 3 * (i - 1);
+    b[k] = kpsi_[i] * floor_p * (1.0 + eta);
+    const double scale = 0.3 * r0_[i];
+    b[k + 1] = b[k + 2] = ks_ * 8.0 * floor_p * std::pow(scale, m - 1.0) * (1.0 + eta);
+  }
+  // friction: sum over contacting nodes of R mu^2 / max(eps, |D|) |a_j x (P - O_j)|_xy^2
+  const double mu2 = std::max(model_.friction_along, model_.friction_side);
+  for (int i = 1; i <= n_; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double R = R_[3 * i + k];
+      if (R <= 0.0) continue;
+      const double sg = k == 1 ? 1.0 : -1.0;
+      const Vec3 P = k == 0 ? O_[i] : Vec3(O_[i] + sg * (k == 1 ? d_plus_[i] : d_minus_[i]) * u_[i]);
+      const double drag = (P - prev_pts_[3 * i + k]).head<2>().norm();
+      const double w = R * mu2 * mu2 / std::max(model_.friction_smoothing, drag);
+      for (int j = 0; j < std::min(i, n_); ++j) {
+        b[2 * j] += w * ath_[j].cross(P - O_[j]).head<2>().squaredNorm();
+        b[2 * j + 1] += w * aphi_[j].cross(P - O_[j]).head<2>().squaredNorm();
+      }
+    }
+  H_.setZero();
+  for (size_t k = 0; k < active_.size(); ++k) H_(k, k) = 1.0 / b[active_[k]];
+  have_hessian_ = true;
+}
+
+// scaled KKT residual: max of stationarity |grad f - J^T lambda|_inf / kappa_root, primal
+// infeasibility max(-g)/tuft_length and complementarity max|lambda_i g_i| / kappa_root
+double Brush::kkt(const VecX& gact, const VecX& g, const MatX& Jact, const VecX& lam, int m) const {
+  double stat = 0.0;
+  for (int k = 0; k < gact.size(); ++k) {
+    double v = gact[k];
+    for (int i = 0; i < m; ++i) v -= Jact(i, k) * lam[i];
+    stat = std::max(stat, std::abs(v));
+  }
+  double feas = 0.0, comp = 0.0;
+  for (int i = 0; i < m; ++i) {
+    feas = std::max(feas, -g[i]);
+    comp = std::max(comp, std::abs(lam[i] * g[i]));
+  }
+  const double r = std::max({stat / f_scale_, feas / model_.tuft_length, comp / f_scale_});
+  return std::isfinite(r) ? r : 1e300;
+}
+
+// Box-constrained dual QP  min 1/2 l^T M l + q^T l,  0 <= l <= nu  (M = M_(0:m,0:m), q = q_),
+// primal active-set: keep l feasible, solve on the free set, step to the first bound hit, free
+// the bound with the most violated multiplier.  Starts from lam_ (warm).  Returns iterations,
+// or -1 if it did not finish (lam_ is then the best feasible point found).
+int Brush::solve_box_qp(int m, double nu) {
+  if (m == 0) return 0;
+  const double reg = 1e-13 * (M_.topLeftCorner(m, m).diagonal().cwiseAbs().maxCoeff() + 1e-300);
+  const double tol = 1e-12 * (q_.head(m).cwiseAbs().maxCoeff() + nu * 1e-6 + 1e-300);
+  // state: 0 free, 1 at lower bound, 2 at upper bound
+  for (int i = 0; i < m; ++i) {
+    lam_[i] = std::clamp(lam_[i], 0.0, nu);
+    qp_state_[i] = lam_[i] <= 0.0 ? 1 : (lam_[i] >= nu ? 2 : 0);
+  }
+  for (int it = 0; it < 20 * m + 20; ++it) {
+    // solve M_FF l_F = -q_F - M_FB l_B on the free set
+    int nf = 0;
+    int idx[kMaxSegments + 2];
+    for (int i = 0; i < m; ++i)
+      if (qp_state_[i] == 0) idx[nf++] = i;
+    bool moved = false;
+    if (nf > 0) {
+      for (int a = 0; a < nf; ++a) {
+        double r = -q_[idx[a]];
+        for (int i = 0; i < m; ++i)
+          if (qp_state_[i] != 0) r -= M_(idx[a], i) * lam_[i];
+        rhs_[a] = r;
+        for (int b = 0; b < nf; ++b) Mff_(a, b) = M_(idx[a], idx[b]);
+        Mff_(a, a) += reg;
+      }
+      // small dense Cholesky in place (M is PSD; reg keeps it definite)
+      bool ok = true;
+      for (int a = 0; a < nf && ok; ++a) {
+        double d = Mff_(a, a);
+        for (int k = 0; k < a; ++k) d -= Mff_(a, k) * Mff_(a, k);
+        if (!(d > 0.0)) { ok = false; break; }
+        d = std::sqrt(d);
+        Mff_(a, a) = d;
+        for (int b = a + 1; b < nf; ++b) {
+          double v = Mff_(b, a);
+          for (int k = 0; k < a; ++k) v -= Mff_(b, k) * Mff_(a, k);
+          Mff_(b, a) = v / d;
+        }
+      }
+      if (!ok) return -1;
+      for (int a = 0; a < nf; ++a) {  // forward, then backward substitution
+        double v = rhs_[a];
+        for (int k = 0; k < a; ++k) v -= Mff_(a, k) * lam_f_[k];
+        lam_f_[a] = v / Mff_(a, a);
+      }
+      for (int a = nf - 1; a >= 0; --a) {
+        double v = lam_f_[a];
+        for (int k = a + 1; k < nf; ++k) v -= Mff_(k, a) * lam_f_[k];
+        lam_f_[a] = v / Mff_(a, a);
+      }
+      // ratio test toward the free-set solution
+      double t = 1.0;
+      int hit = -1, hit_state = 0;
+      for (int a = 0; a < nf; ++a) {
+        const double cur = lam_[idx[a]], tgt = lam_f_[a];
+        if (tgt < 0.0 && cur - tgt > 0.0) {
+          const double ta = cur / (cur - tgt);
+          if (ta < t) t = ta, hit = idx[a], hit_state = 1;
+        } else if (tgt > nu && tgt - cur > 0.0) {
+          const double ta = (nu - cur) / (tgt - cur);
+          if (ta < t) t = ta, hit = idx[a], hit_state = 2;
+        }
+      }
+      for (int a = 0; a < nf; ++a) lam_[idx[a]] += t * (lam_f_[a] - lam_[idx[a]]);
+      if (hit >= 0) {
+        lam_[hit] = hit_state == 1 ? 0.0 : nu;
+        qp_state_[hit] = hit_state;
+        moved = true;
+      }
+    }
+    if (moved) continue;
+    // optimal on this working set: release the bound with the most violated sign condition
+    int rel = -1;
+    double worst = tol;
+    for (int i = 0; i < m; ++i) {
+      if (qp_state_[i] == 0) continue;
+      double gi = q_[i];
+      for (int k = 0; k < m; ++k) gi += M_(i, k) * lam_[k];
+      const double viol = qp_state_[i] == 1 ? -gi : gi;  // at 0 want g >= 0, at nu want g <= 0
+      if (viol > worst) worst = viol, rel = i;
+    }
+    if (rel < 0) return it + 1;
+    qp_state_[rel] = 0;
+  }
+  return -1;
+}
+
+StepStats Brush::step(const Pose& pose) {
+  const auto t0 = std::chrono::steady_clock::now();
+  begin_frame(pose);
+  solve();
+  end_frame();
+  stats_.contacts = contacts_;
+  stats_.root_clamped = root_clamped_;
+  stats_.pore_active = pore_on_;
+  stats_.max_penetration = std::max(0.0, -section_heights().minCoeff());
+  stats_.time = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return stats_;
+}
+
+void Brush::solve() {
+  const int na = static_cast<int>(active_.size());
+  const int m = m_;
+  const int qmax = model_.q_max;
+  const double tol = model_.tolerance;
+  stats_.iterations = 0;
+  stats_.line_search_failures = 0;
+  stats_.hessian_resets = 0;
+  stats_.merit_before.clear();
+  stats_.merit_after.clear();
+  stats_.step_sizes.clear();
+  stats_.kkt_trace.clear();
+  stats_.converged = false;
+  stats_.status = "iteration cap";
+
+  // first iterate: the last frame's state at the new pose
+  double f = evaluate(x_, &gf_, &g_, &J_);
+  gather(gf_, gact_);
+  for (size_t k = 0; k < active_.size(); ++k) Jact_.col(k).head(m) = J_.col(active_[k]).head(m);
+  if (!model_.warm_hessian || !have_hessian_) fresh_hessian();
+  for (int i = 0; i < m; ++i) lam_[i] = std::max(lambda_[i], 0.0);
+  gather(x_, za_);
+
+  // the penalty nu must exceed the contact forces; its floor is the brush's force scale
+  const double nu0 = 100.0 * model_.bend_stiffness / model_.tuft_length;
+  nu_ = std::max(nu0, 2.0 * (m > 0 ? lam_.head(m).maxCoeff() : 0.0));
+  const double nu_max = 1e12 * nu0;
+
+  double res = kkt(gact_, g_, Jact_, lam_, m);
+  if (res <= tol) {
+    stats_.converged = true;
+    stats_.status = "no motion";
+  }
+  bool fresh_this_iter = !model_.warm_hessian;
+  int q = 0;
+  while (!stats_.converged && q < qmax) {
+    // --- QP through its dual: M = J H J^T, q = g - J H grad_f
+    HJt_.leftCols(m).noalias() = H_ * Jact_.topRows(m).transpose();
+    M_.topLeftCorner(m, m).noalias() = Jact_.topRows(m) * HJt_.leftCols(m);
+    tmp_.noalias() = H_ * gact_;  // H grad_f
+    q_.head(m) = g_.head(m);
+    q_.head(m).noalias() -= Jact_.topRows(m) * tmp_;
+    int qp_it = solve_box_qp(m, nu_);
+    // an elastic (infeasible-looking) linearisation: raise nu and solve again
+    for (int tries = 0; tries < 4 && m > 0 && qp_it >= 0 && lam_.head(m).maxCoeff() >= 0.999 * nu_ &&
+                        nu_ < nu_max;
+         ++tries) {
+      nu_ *= 10.0;
+      qp_it = solve_box_qp(m, nu_);
+    }
+    if (qp_it < 0) {
+      stats_.status = "qp";
+      if (!fresh_this_iter) {  // try once more from a fresh matrix
+        fresh_hessian();
+        ++stats_.hessian_resets;
+        fresh_this_iter = true;
+        continue;
+      }
+      break;
+    }
+    // p = H (J^T lambda - grad_f)
+    step_ = -tmp_;
+    if (m > 0) step_.noalias() += HJt_.leftCols(m) * lam_.head(m);
+
+    // directional derivative of the l1 merit along p (negative for an Sl1QP step)
+    double lin_viol = 0.0;
+    for (int i = 0; i < m; ++i) lin_viol += std::max(0.0, -(g_[i] + Jact_.row(i).dot(step_)));
+    const double viol0 = neg_sum(g_, m);
+    const double D = gact_.dot(step_) - nu_ * viol0 + nu_ * lin_viol;
+    const double merit0 = f + nu_ * viol0;
+    if (!(D < 0.0) || !std::isfinite(D)) {
+      if (step_.cwiseAbs().maxCoeff() < 1e-14) {  // nothing left to do
+        stats_.converged = res <= tol;
+        stats_.status = stats_.converged ? "converged" : "stalled";
+        break;
+      }
+      if (!fresh_this_iter) {
+        fresh_hessian();
+        ++stats_.hessian_resets;
+        fresh_this_iter = true;
+        continue;
+      }
+      stats_.status = "line search";
+      break;
+    }
+
+    // step cap: no variable moves more than 0.5 (rad, or sqrt(mm) for the stretches) at once
+    const double pmax = step_.cwiseAbs().maxCoeff();
+    double alpha = std::min(1.0, 0.5 / pmax);
+
+    // backtracking on the merit; a trial with a non-finite value is rejected, never accepted
+    bool accepted = false;
+    double f_new = 0.0, merit_new = 0.0;
+    for (int ls = 0; ls < 40; ++ls) {
+      zt_ = za_ + alpha * step_;
+      xf_trial_ = x_;
+      scatter(zt_, xf_trial_);
+      f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
+      merit_new = f_new + nu_ * neg_sum(gtrial_, m);
+      if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * alpha * D) {
+        accepted = true;
+        break;
+      }
+      alpha *= 0.5;
+    }
+    if (!accepted) {
+      ++stats_.line_search_failures;
+      if (!fresh_this_iter) {
+        fresh_hessian();
+        ++stats_.hessian_resets;
+        fresh_this_iter = true;
+        continue;
+      }
+      stats_.status = "line search";
+      break;
+    }
+    fresh_this_iter = false;
+    ++q;
+    stats_.merit_before.push_back(merit0);
+    stats_.merit_after.push_back(merit_new);
+    stats_.step_sizes.push_back(alpha);
+
+    // accept, and evaluate the derivatives at the new point
+    x_ = xf_trial_;
+    za_ = zt_;
+    f = evaluate(x_, &gf_new_, &g_new_, &J_);
+    gather(gf_new_, gact_new_);
+    for (size_t k = 0; k < active_.size(); ++k)
+      Jact_new_.col(k).head(m) = J_.col(active_[k]).head(m);
+
+    // damped BFGS (Powell) on B = H^-1 with s = alpha p, y = grad L(x+) - grad L(x):
+    // B s = alpha (J^T lambda - grad_f) by the QP's stationarity, so B is never formed
+    s_ = alpha * step_;
+    yv_ = gact_new_ - gact_;
+    if (m > 0) yv_.noalias() -= (Jact_new_.topRows(m) - Jact_.topRows(m)).transpose() * lam_.head(m);
+    Bs_ = -alpha * gact_;
+    if (m > 0) Bs_.noalias() += alpha * (Jact_.topRows(m).transpose() * lam_.head(m));
+    const double sBs = s_.dot(Bs_), sy = s_.dot(yv_);
+    if (sBs > 0.0 && std::isfinite(sy)) {
+      const double th = sy >= 0.2 * sBs ? 1.0 : 0.8 * sBs / (sBs - sy);
+      r_ = th * yv_ + (1.0 - th) * Bs_;
+      const double rs = r_.dot(s_);
+      if (rs > 1e-16 * r_.norm() * s_.norm()) {
+        // H+ = (I - rho s r^T) H (I - rho r s^T) + rho s s^T
+        const double rho = 1.0 / rs;
+        Hr_.noalias() = H_ * r_;
+        const double rHr = r_.dot(Hr_);
+        H_.noalias() -= rho * (s_ * Hr_.transpose() + Hr_ * s_.transpose());
+        H_.noalias() += (rho * rho * rHr + rho) * (s_ * s_.transpose());
+      }
+    }
+    bool bad = false;
+    for (int k = 0; k < na && !bad; ++k) bad = !(H_(k, k) > 0.0) || !std::isfinite(H_(k, k));
+    if (bad) {
+      fresh_hessian();
+      ++stats_.hessian_resets;
+    }
+
+    gact_ = gact_new_;
+    g_.head(m) = g_new_.head(m);
+    Jact_.topRows(m) = Jact_new_.topRows(m);
+    res = kkt(gact_, g_, Jact_, lam_, m);
+    stats_.kkt_trace.push_back(res);
+    if (res <= tol) {
+      stats_.converged = true;
+      stats_.status = "converged";
+    }
+  }
+  if (!model_.warm_hessian) have_hessian_ = false;
+  for (int i = 0; i < m; ++i) lambda_[i] = lam_[i];
+  stats_.iterations = q;
+  stats_.energy = f;
+  stats_.kkt_residual = res;
+  stats_.penalty = nu_;
+}
+
+}  // namespace brushwork

@@ -1,0 +1,74 @@
+"""Recorded brush motions: fixed pose sequences used by the tests and the benchmarks.
+
+Every motion is a pure function of the model's size and its arguments, so the same call replays
+the same stroke bit for bit (libmypaint's way: replay a recorded stroke as the benchmark).
+Lengths scale with the tuft length L so that one motion suits every preset.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._core import BrushModel, Pose
+
+
+def _lerp(a: float, b: float, t: float) -> float:
+    return a + (b - a) * t
+
+
+def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.3,
+                         tilt_deg: float = 15.0) -> list[Pose]:
+    """A calligraphic stroke: descend and press (root `press` L below first contact), drag along +x,
+    turn a quarter circle toward +y, then lift while moving, and hang in the air at the end.
+
+    Phases as fractions of `frames`: 12% press, 38% drag, 25% turn, 19% lift, 6% in the air.
+    The handle leans back against the direction of travel by `tilt_deg`.
+    """
+    if frames < 50:
+        raise ValueError(f"press_drag_turn_lift: frames = {frames} is too few (at least 50)")
+    L = model.tuft_length
+    contact_z = L * math.cos(math.radians(tilt_deg))
+    z_air, z_press = contact_z + 0.15 * L, contact_z - press * L
+    n_press, n_drag, n_turn, n_lift = (int(frames * f) for f in (0.12, 0.38, 0.25, 0.19))
+    n_air = frames - n_press - n_drag - n_turn - n_lift
+    drag_len, radius = 2.0 * L, 0.8 * L
+    poses: list[Pose] = []
+    # press: straight down at the origin, the handle leaning back toward -x (azimuth 180)
+    for k in range(n_press):
+        t = (k + 1) / n_press
+        poses.append(Pose((0.0, 0.0, _lerp(z_air, z_press, t)), tilt_deg, 180.0))
+    # drag along +x
+    for k in range(n_drag):
+        t = (k + 1) / n_drag
+        poses.append(Pose((drag_len * t, 0.0, z_press), tilt_deg, 180.0))
+    # turn: a quarter circle from heading +x to heading +y, the handle trailing the heading
+    cx, cy = drag_len, radius
+    for k in range(n_turn):
+        a = 0.5 * math.pi * (k + 1) / n_turn
+        x, y = cx + radius * math.sin(a), cy - radius * math.cos(a)
+        heading = math.degrees(a)
+        poses.append(Pose((x, y, z_press), tilt_deg, 180.0 + heading))
+    # lift while moving on along +y
+    x0, y0 = cx + radius, cy
+    for k in range(n_lift):
+        t = (k + 1) / n_lift
+        poses.append(Pose((x0, y0 + 0.5 * L * t, _lerp(z_press, z_air, t)), tilt_deg, 270.0))
+    for _ in range(n_air):
+        poses.append(Pose((x0, y0 + 0.5 * L, z_air), tilt_deg, 270.0))
+    return poses
+
+
+def replay(brush, poses) -> list:
+    """Step `brush` through `poses`; return the list of StepStats."""
+    return [brush.step(p) for p in poses]
+
+
+def mean_iterations(model: BrushModel, poses, warm_hessian: bool) -> float:
+    """Mean SQP iterations per frame over `poses` with the carried or a fresh Hessian."""
+    from .brush import Brush
+
+    m = model.copy()
+    m.warm_hessian = warm_hessian
+    b = Brush(m)
+    return float(np.mean([s.iterations for s in replay(b, poses)]))
