@@ -53,6 +53,8 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
       .def_readonly("contacts", &StepStats::contacts, "nodes in the frozen contact set")
       .def_readonly("root_clamped", &StepStats::root_clamped,
                     "the pose put the ferrule into the paper; the root was held on it")
+      .def_readonly("substeps", &StepStats::substeps,
+                    "sub-steps this frame was split into (a pose far from the last one)")
       .def_readonly("pore_active", &StepStats::pore_active, "the pore blocking plane was active")
       .def_readonly("penalty", &StepStats::penalty, "nu of the l1 merit function")
       .def_readonly("status", &StepStats::status)

@@ -14,6 +14,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
+constexpr double kPlasticDeadband = 1e-4;  // rad
 constexpr double kThetaEps = 1e-3;  // rad: the straight-skeleton trick (seed "Energy minimization problems")
 
 // |e|^m, its first derivative m |e|^(m-1) sgn(e) and second m (m-1) |e|^(m-2)
@@ -99,7 +100,7 @@ Brush::Brush(const BrushModel& model) : model_(model) {
 
   // size every workspace once
   O_.assign(n_ + 1, Vec3::Zero());
-  u_ = w_ = nrm_ = gO_ = gu_ = O_;
+  u_ = w_ = nrm_ = gO_ = gu_ = tau_ = O_;
   aphi_.assign(n_, Vec3::Zero());
   ath_ = aphi_;
   F_.assign(n_, Mat3::Identity());
@@ -131,6 +132,21 @@ Brush::Brush(const BrushModel& model) : model_(model) {
   Mff_.resize(mmax_, mmax_);
   qp_state_.assign(mmax_, 0);
   H_ = MatX::Identity(na, na);
+
+  // rest shape of the lateral polylines (the tuft profile bends them even when unstrained):
+  // t_i - t_{i-1} of the straight brush, in each node's lateral frame
+  kinematics(VecX::Zero(nx_));
+  for (int side = 0; side < 2; ++side) {
+    const double sg = side == 0 ? 1.0 : -1.0;
+    lb_rest_[side].assign(n_ + 1, Vec3::Zero());
+    for (int i = 1; i < n_; ++i) {
+      const VecX& d = side == 0 ? d_plus_ : d_minus_;
+      const Vec3 t0 = (O_[i] + sg * d[i] * u_[i] - O_[i - 1] - sg * d[i - 1] * u_[i - 1]).normalized();
+      const Vec3 t1 = (O_[i + 1] + sg * d[i + 1] * u_[i + 1] - O_[i] - sg * d[i] * u_[i]).normalized();
+      const Vec3 v = t1 - t0;
+      lb_rest_[side][i] = Vec3(v.dot(w_[i]), v.dot(u_[i]), v.dot(nrm_[i]));
+    }
+  }
   stats_.merit_before.reserve(model_.q_max + 8);
   stats_.merit_after.reserve(model_.q_max + 8);
   reset();
@@ -145,6 +161,7 @@ void Brush::reset() {
   have_hessian_ = false;
   touched_since_reset_ = false;
   have_prev_positions_ = false;
+  pore_on_prev_ = false;
   lambda_.setZero();
   c_prev_ = r0_;
   nu_ = 0.0;
@@ -190,7 +207,7 @@ void Brush::kinematics(const VecX& x) {
 }
 
 void Brush::clear_node_grads() {
-  for (int i = 0; i <= n_; ++i) gO_[i].setZero(), gu_[i].setZero();
+  for (int i = 0; i <= n_; ++i) gO_[i].setZero(), gu_[i].setZero(), tau_[i].setZero();
   gdp_.setZero();
   gdm_.setZero();
 }
@@ -203,16 +220,16 @@ void Brush::chain(VecX& gx) const {
   Vec3 T = Vec3::Zero(), Gs = Vec3::Zero();
   for (int k = n_ - 1; k >= 0; --k) {
     const int j = k + 1;
-    T += O_[j].cross(gO_[j]) + u_[j].cross(gu_[j]);
+    T += O_[j].cross(gO_[j]) + u_[j].cross(gu_[j]) + tau_[j];
     Gs += gO_[j];
     const Vec3 base = T - O_[k].cross(Gs);
-    const Vec3 lat = u_[k].cross(gu_[k]);
+    const Vec3 lat = u_[k].cross(gu_[k]) + tau_[k];
     gx[2 * k + 1] += aphi_[k].dot(base + lat);
     gx[2 * k] += ath_[k].dot(base + 0.5 * lat);
   }
   for (int i = 1; i <= n_; ++i) {
     const int b = 2 * n_ + 3 * (i - 1);
-    gx[b] += gu_[i].dot(nrm_[i].cross(u_[i]));  // du/dpsi = n x u
+    gx[b] += nrm_[i].dot(u_[i].cross(gu_[i]) + tau_[i]);  // dv/dpsi = n x v for v in the lateral frame
     gx[b + 1] += gdp_[i] * 2.0 * x_eval_[b + 1];
     gx[b + 2] += gdm_[i] * 2.0 * x_eval_[b + 2];
   }
@@ -273,13 +290,14 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
   }
 
   // bend springs between consecutive lateral nodes P_i = O_i +- d_i u_i, on each side:
-  // kappa_lb |t_i - t_{i-1}|^m with t the unit edge directions (|t_i - t_{i-1}| ~ the angle)
+  // kappa_lb |(t_i - t_{i-1}) - r_i|^m with t the unit edge directions (|t_i - t_{i-1}| ~ the
+  // angle between them) and r_i their rest difference carried in node i's lateral frame
   if (klb_ > 0.0) {
     for (int side = 0; side < 2; ++side) {
       const double sg = side == 0 ? 1.0 : -1.0;
       const VecX& d = side == 0 ? d_plus_ : d_minus_;
       VecX& gd = side == 0 ? gdp_ : gdm_;
-      Vec3 e_prev = Vec3::Zero(), t_prev = Vec3::Zero();
+      Vec3 t_prev = Vec3::Zero();
       double len_prev = 1.0;
       for (int i = 0; i < n_; ++i) {
         const Vec3 Pa = O_[i] + sg * d[i] * u_[i], Pb = O_[i + 1] + sg * d[i + 1] * u_[i + 1];
@@ -287,7 +305,9 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
         const double le = std::max(e.norm(), 1e-12);
         const Vec3 t = e / le;
         if (i > 0) {
-          const Vec3 v = t - t_prev;
+          const Vec3& rl = lb_rest_[side][i];
+          const Vec3 rv = rl.x() * w_[i] + rl.y() * u_[i] + rl.z() * nrm_[i];
+          const Vec3 v = t - t_prev - rv;
           const double vv = v.squaredNorm();
           E += klb_ * (m == 2.0 ? vv : std::pow(vv, 0.5 * m));
           if (gx) {
@@ -304,9 +324,9 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
             add_point(i + 1, ge);
             add_point(i, gep - ge);
             add_point(i - 1, -gep);
+            tau_[i] += rv.cross(-dv);  // r_i turns with node i's lateral frame
           }
         }
-        e_prev = e;
         t_prev = t;
         len_prev = le;
       }
@@ -411,12 +431,17 @@ void Brush::begin_frame(const Pose& pose) {
   root_clamped_ = root_.z() < zmin;
   if (root_clamped_) root_.z() = zmin;
 
-  // plasticity (seed "Brush plasticity"): rest angles rho = clamp(theta', -alpha, alpha)
+  // plasticity (seed "Brush plasticity"): rest angles rho = clamp(theta', -alpha, alpha).  rho
+  // moves only when that target has moved by more than kPlasticDeadband: the plastic set has
+  // its own static friction, so a brush held still settles instead of creeping forever
   x_prev_ = x_;
   const double alpha = model_.plasticity_alpha * kDeg;
+  auto shift = [&](int k, double target) {
+    if (std::abs(target - rest_[k]) > kPlasticDeadband || alpha == 0.0) rest_[k] = target;
+  };
   for (int j = 0; j < n_; ++j) {
-    rest_[2 * j] = std::clamp(x_[2 * j], -alpha, alpha);
-    rest_[2 * j + 1] = j > 0 ? std::clamp(x_[2 * j + 1], -alpha, alpha) : 0.0;
+    shift(2 * j, std::clamp(x_[2 * j], -alpha, alpha));
+    shift(2 * j + 1, j > 0 ? std::clamp(x_[2 * j + 1], -alpha, alpha) : 0.0);
   }
 
   // until the brush first touches, phi_0 keeps the bending plane vertical (seed "Real-time
@@ -509,10 +534,17 @@ void Brush::begin_frame(const Pose& pose) {
     const double tt = std::max(beta - model_.pore_gamma * kDeg, 0.0);
     const double up = std::max(lambda_[n_ - 1], 0.0);
     const double L = model_.pore_a * tt + model_.pore_b * up + model_.pore_c;
+    // the pores hold the plane where they trapped the tip: a tip pushed forward meets it,
+    // a trailing tip (a normal drag) draws it along; it is released when the tip lifts
+    const bool was_on = pore_on_prev_;
     pore_dir_ = tip.head<2>().normalized();
     pore_offset_ = pore_dir_.dot(prev_pts_[3 * n_].head<2>()) + L;
+    if (was_on) pore_offset_ = std::min(pore_offset_, pore_dir_.dot(pore_anchor_));
+    pore_anchor_ = prev_pts_[3 * n_].head<2>() +
+                   (pore_offset_ - pore_dir_.dot(prev_pts_[3 * n_].head<2>())) * pore_dir_;
     pore_on_ = true;
   }
+  pore_on_prev_ = pore_on_;
   const int m_old = m_;
   m_ = (model_.collision ? n_ : 0) + (pore_on_ ? 1 : 0);
   if (m_ > m_old && pore_on_) lambda_[m_ - 1] = 0.0;  // the plane starts without a force

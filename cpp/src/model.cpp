@@ -41,6 +41,8 @@ const std::vector<ParamSlot>& slots() {
         "where the radius peaks, as a fraction of the length from the root"),
       F("tip_radius_fraction", "-", 0.005, 0.5, &BrushModel::tip_radius_fraction,
         "initial radius at the tip / belly radius"),
+      F("taper_power", "-", 0.1, 3.0, &BrushModel::taper_power,
+        "shape of the taper from belly to tip: r ~ cos(...)^taper_power (small: fuller tip)"),
       F("segment_ratio", "-", 0.3, 1.0, &BrushModel::segment_ratio,
         "length of each segment / length of the one above it"),
       F("lateral_radius_fraction", "-", 0.05, 0.9, &BrushModel::lateral_radius_fraction,
@@ -179,7 +181,7 @@ Eigen::VectorXd BrushModel::node_radii() const {
       f = 0.8 + 0.2 * std::sin(0.5 * pi * t / belly_position);
     } else {
       const double q = std::cos(0.5 * pi * (t - belly_position) / (1.0 - belly_position));
-      f = tip_radius_fraction + (1.0 - tip_radius_fraction) * std::pow(std::max(q, 0.0), 0.9);
+      f = tip_radius_fraction + (1.0 - tip_radius_fraction) * std::pow(std::max(q, 0.0), taper_power);
     }
     r[i] = belly_radius * std::max(f, tip_radius_fraction);
   }

@@ -175,11 +175,119 @@ int Brush::solve_box_qp(int m, double nu) {
   return -1;
 }
 
+// second-order correction for the active set idx[0..k): s_ = H J_A^T mu, (J_A H J_A^T) mu =
+// -g_A(trial) with gtrial_ holding g at the trial point; uses M_ = J H J^T and HJt_ of this
+// iteration.  Returns false if M_AA is not positive definite.
+bool Brush::soc_solve(const int* idx, int k) {
+  for (int a = 0; a < k; ++a) {
+    rhs_[a] = -gtrial_[idx[a]];
+    for (int b = 0; b < k; ++b) Mff_(a, b) = M_(idx[a], idx[b]);
+    Mff_(a, a) += 1e-13 * std::abs(M_(idx[a], idx[a])) + 1e-300;
+  }
+  for (int a = 0; a < k; ++a) {
+    double d = Mff_(a, a);
+    for (int c = 0; c < a; ++c) d -= Mff_(a, c) * Mff_(a, c);
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    Mff_(a, a) = d;
+    for (int b = a + 1; b < k; ++b) {
+      double v = Mff_(b, a);
+      for (int c = 0; c < a; ++c) v -= Mff_(b, c) * Mff_(a, c);
+      Mff_(b, a) = v / d;
+    }
+  }
+  for (int a = 0; a < k; ++a) {
+    double v = rhs_[a];
+    for (int c = 0; c < a; ++c) v -= Mff_(a, c) * lam_f_[c];
+    lam_f_[a] = v / Mff_(a, a);
+  }
+  for (int a = k - 1; a >= 0; --a) {
+    double v = lam_f_[a];
+    for (int c = a + 1; c < k; ++c) v -= Mff_(c, a) * lam_f_[c];
+    lam_f_[a] = v / Mff_(a, a);
+  }
+  s_.setZero();
+  for (int a = 0; a < k; ++a) s_ += lam_f_[a] * HJt_.col(idx[a]);
+  return s_.allFinite();
+}
+
+// One frame.  A pose far from the last one (a straight brush put straight into a deep press, a
+// drag of a tuft length per frame) makes the first iterate penetrate deeply, and a local SQP
+// from there may need many frames to climb out.  Such a frame is split: the pose is
+// interpolated from the last one in sub-steps, each solved in turn (continuation), so that no
+// sub-step starts more than about 2% of the tuft length inside the paper.  Statistics add up.
 StepStats Brush::step(const Pose& pose) {
   const auto t0 = std::chrono::steady_clock::now();
-  begin_frame(pose);
-  solve();
-  end_frame();
+  pose.validate();
+  int substeps = 1;
+  Pose from = pose_;
+  if (model_.collision) {
+    // how deep would the first iterate go?  (a dry run of the frame set-up on a copy of the
+    // root and the last state; begin_frame itself only reads)
+    const VecX x_keep = x_, xp_keep = x_prev_;
+    const Pose pose_keep = pose_;
+    const bool touched_keep = touched_since_reset_, prev_keep = have_prev_positions_;
+    const int m_keep = m_;
+    const bool pore_keep = pore_on_prev_;
+    const Eigen::Vector2d anchor_keep = pore_anchor_;
+    const VecX lam_keep = lambda_;
+    begin_frame(pose);
+    const double pen = std::max(0.0, -section_heights().minCoeff());
+    x_ = x_keep;
+    x_prev_ = xp_keep;
+    touched_since_reset_ = touched_keep;
+    have_prev_positions_ = prev_keep;
+    m_ = m_keep;
+    pore_on_prev_ = pore_keep;
+    pore_anchor_ = anchor_keep;
+    lambda_ = lam_keep;
+    pose_ = pose_keep;
+    const double step_pen = 0.02 * model_.tuft_length;
+    if (pen > step_pen) substeps = std::min(32, static_cast<int>(std::ceil(pen / step_pen)));
+    // a fresh (or reset) brush has no last pose: it comes down from straight above
+    if (!have_prev_positions_) {
+      from = pose;
+      from.position.z() += 1.2 * pen + step_pen;
+    }
+  }
+  // sleep rule: the same pose as last frame and a residual within 10x tolerance means no motion
+  // (without it, modes without a spring, like phi_0, creep by ~1e-5 rad a frame forever)
+  same_pose_ = have_prev_positions_ && pose.position == pose_.position &&
+               pose.tilt_deg == pose_.tilt_deg && pose.azimuth_deg == pose_.azimuth_deg &&
+               pose.twist_deg == pose_.twist_deg;
+  int iterations = 0, ls_fail = 0, resets = 0;
+  std::vector<double> mb, ma;
+  for (int k = 1; k <= substeps; ++k) {
+    Pose p = pose;
+    if (k < substeps) {
+      const double t = static_cast<double>(k) / substeps;
+      p.position = from.position + t * (pose.position - from.position);
+      p.tilt_deg = from.tilt_deg + t * (pose.tilt_deg - from.tilt_deg);
+      // azimuth and twist along the shorter way round
+      const double da = std::remainder(pose.azimuth_deg - from.azimuth_deg, 360.0);
+      const double dt = std::remainder(pose.twist_deg - from.twist_deg, 360.0);
+      p.azimuth_deg = pose.azimuth_deg - (1.0 - t) * da;
+      p.twist_deg = pose.twist_deg - (1.0 - t) * dt;
+    }
+    begin_frame(p);
+    solve();
+    end_frame();
+    iterations += stats_.iterations;
+    ls_fail += stats_.line_search_failures;
+    resets += stats_.hessian_resets;
+    if (substeps > 1) {
+      mb.insert(mb.end(), stats_.merit_before.begin(), stats_.merit_before.end());
+      ma.insert(ma.end(), stats_.merit_after.begin(), stats_.merit_after.end());
+    }
+  }
+  if (substeps > 1) {
+    stats_.merit_before = mb;  // rare path: allocation is fine here
+    stats_.merit_after = ma;
+  }
+  stats_.iterations = iterations;
+  stats_.line_search_failures = ls_fail;
+  stats_.hessian_resets = resets;
+  stats_.substeps = substeps;
   stats_.contacts = contacts_;
   stats_.root_clamped = root_clamped_;
   stats_.pore_active = pore_on_;
@@ -217,7 +325,7 @@ void Brush::solve() {
   const double nu_max = 1e12 * nu0;
 
   double res = kkt(gact_, g_, Jact_, lam_, m);
-  if (res <= tol) {
+  if (res <= tol || (same_pose_ && res <= 10.0 * tol)) {
     stats_.converged = true;
     stats_.status = "no motion";
   }
@@ -281,7 +389,37 @@ void Brush::solve() {
     // backtracking on the merit; a trial with a non-finite value is rejected, never accepted
     bool accepted = false;
     double f_new = 0.0, merit_new = 0.0;
-    for (int ls = 0; ls < 40; ++ls) {
+    if (alpha == 1.0 && m > 0) {
+      // try the full step first, and if the merit rejects it, a second-order correction: curved
+      // constraints make the l1 merit refuse good full steps near the solution (the Maratos
+      // effect); p_c = H J_A^T mu with (J_A H J_A^T) mu = -g_A(x + p) puts the active
+      // constraints back on the paper at second order, and the same merit test decides
+      zt_ = za_ + step_;
+      xf_trial_ = x_;
+      scatter(zt_, xf_trial_);
+      f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
+      merit_new = f_new + nu_ * neg_sum(gtrial_, m);
+      if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * D) {
+        accepted = true;
+      } else if (std::isfinite(merit_new)) {
+        int na_act = 0, idx[kMaxSegments + 2];
+        for (int i = 0; i < m; ++i)
+          if (lam_[i] > 0.0) idx[na_act++] = i;
+        if (na_act > 0 && soc_solve(idx, na_act)) {
+          zt_ = za_ + step_ + s_;
+          xf_trial_ = x_;
+          scatter(zt_, xf_trial_);
+          f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
+          merit_new = f_new + nu_ * neg_sum(gtrial_, m);
+          if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * D) {
+            accepted = true;
+            step_ += s_;  // the accepted displacement, for the BFGS pair
+          }
+        }
+      }
+      if (!accepted) alpha = 0.5;
+    }
+    for (int ls = 0; ls < 40 && !accepted; ++ls) {
       zt_ = za_ + alpha * step_;
       xf_trial_ = x_;
       scatter(zt_, xf_trial_);

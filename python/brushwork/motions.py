@@ -17,13 +17,14 @@ def _lerp(a: float, b: float, t: float) -> float:
     return a + (b - a) * t
 
 
-def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.3,
+def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.2,
                          tilt_deg: float = 15.0) -> list[Pose]:
     """A calligraphic stroke: descend and press (root `press` L below first contact), drag along +x,
     turn a quarter circle toward +y, then lift while moving, and hang in the air at the end.
 
     Phases as fractions of `frames`: 12% press, 38% drag, 25% turn, 19% lift, 6% in the air.
-    The handle leans back against the direction of travel by `tilt_deg`.
+    The handle leans toward the direction of travel by `tilt_deg`, so the tip trails (a
+    normal stroke; leaning it back would push the tip, see `pushed_stroke`).
     """
     if frames < 50:
         raise ValueError(f"press_drag_turn_lift: frames = {frames} is too few (at least 50)")
@@ -34,28 +35,48 @@ def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.
     n_air = frames - n_press - n_drag - n_turn - n_lift
     drag_len, radius = 2.0 * L, 0.8 * L
     poses: list[Pose] = []
-    # press: straight down at the origin, the handle leaning back toward -x (azimuth 180)
+    # press: straight down at the origin, the handle leaning toward +x (azimuth 0)
     for k in range(n_press):
         t = (k + 1) / n_press
-        poses.append(Pose((0.0, 0.0, _lerp(z_air, z_press, t)), tilt_deg, 180.0))
+        poses.append(Pose((0.0, 0.0, _lerp(z_air, z_press, t)), tilt_deg, 0.0))
     # drag along +x
     for k in range(n_drag):
         t = (k + 1) / n_drag
-        poses.append(Pose((drag_len * t, 0.0, z_press), tilt_deg, 180.0))
-    # turn: a quarter circle from heading +x to heading +y, the handle trailing the heading
+        poses.append(Pose((drag_len * t, 0.0, z_press), tilt_deg, 0.0))
+    # turn: a quarter circle from heading +x to heading +y, the handle leaning into the heading
     cx, cy = drag_len, radius
     for k in range(n_turn):
         a = 0.5 * math.pi * (k + 1) / n_turn
         x, y = cx + radius * math.sin(a), cy - radius * math.cos(a)
         heading = math.degrees(a)
-        poses.append(Pose((x, y, z_press), tilt_deg, 180.0 + heading))
+        poses.append(Pose((x, y, z_press), tilt_deg, heading))
     # lift while moving on along +y
     x0, y0 = cx + radius, cy
     for k in range(n_lift):
         t = (k + 1) / n_lift
-        poses.append(Pose((x0, y0 + 0.5 * L * t, _lerp(z_press, z_air, t)), tilt_deg, 270.0))
+        poses.append(Pose((x0, y0 + 0.5 * L * t, _lerp(z_press, z_air, t)), tilt_deg, 90.0))
     for _ in range(n_air):
-        poses.append(Pose((x0, y0 + 0.5 * L, z_air), tilt_deg, 270.0))
+        poses.append(Pose((x0, y0 + 0.5 * L, z_air), tilt_deg, 90.0))
+    return poses
+
+
+def pressed_drag(model: BrushModel, frames: int = 160, press: float = 0.2, tilt_deg: float = 30.0,
+                 azimuth_deg: float = 0.0, heading_deg: float = 0.0,
+                 speed: float = 0.02) -> list[Pose]:
+    """Press at the origin over frames // 4, then drag along `heading_deg` at `speed` L per frame
+    with the handle held at (`tilt_deg`, `azimuth_deg`). azimuth = heading: the tip trails;
+    azimuth = heading + 180: the tip is pushed (seed Figure 11b); heading + 90: a biased tip."""
+    L = model.tuft_length
+    contact_z = L * math.cos(math.radians(tilt_deg))
+    z_air, z_press = contact_z + 0.1 * L, contact_z - press * L
+    n_press = max(frames // 4, 1)
+    h = math.radians(heading_deg)
+    poses = []
+    for k in range(n_press):
+        poses.append(Pose((0.0, 0.0, _lerp(z_air, z_press, (k + 1) / n_press)), tilt_deg, azimuth_deg))
+    for k in range(frames - n_press):
+        d = speed * L * (k + 1)
+        poses.append(Pose((d * math.cos(h), d * math.sin(h), z_press), tilt_deg, azimuth_deg))
     return poses
 
 

@@ -62,6 +62,7 @@ struct StepStats {
   int contacts = 0;             // nodes (spine + lateral) in the frozen contact set
   bool root_clamped = false;    // the pose put the ferrule into the paper; root held on it
   bool pore_active = false;     // the blocking plane was in the problem this frame
+  int substeps = 1;             // the frame was split into this many sub-steps (continuation)
   double penalty = 0.0;         // nu of the l1 merit function
   std::string status;           // "converged", "iteration cap", "line search", "qp", "no motion"
   std::vector<double> merit_before, merit_after;  // per accepted step, with the same nu
@@ -122,6 +123,7 @@ class Brush {
   double kkt(const VecX& gact, const VecX& g, const MatX& Jact, const VecX& lam, int m) const;
   void solve();
   int solve_box_qp(int m, double nu);
+  bool soc_solve(const int* idx, int k);
 
   BrushModel model_;
   int n_ = 0, nx_ = 0, m_ = 0, mmax_ = 0;
@@ -140,6 +142,7 @@ class Brush {
   Vec3 root_ = Vec3::Zero();
   Mat3 R0_ = Mat3::Identity();
   bool root_clamped_ = false;
+  bool same_pose_ = false;         // this frame's pose equals the last one (sleep rule)
   double nu_ = 1.0;
   VecX lambda_;                    // (mmax,) multipliers of the last QP
   VecX c_prev_;                    // (n+1,) minor radius c_i at the end of the last frame (r_sp)
@@ -152,6 +155,8 @@ class Brush {
   bool pore_on_ = false;
   Eigen::Vector2d pore_dir_ = Eigen::Vector2d::Zero();  // unit, tip direction on the paper
   double pore_offset_ = 0.0;             // pore_dir . O_n must stay <= pore_offset_ (mm)
+  bool pore_on_prev_ = false;            // the plane was in last frame's problem
+  Eigen::Vector2d pore_anchor_ = Eigen::Vector2d::Zero();  // a point of the plane, mm
   int contacts_ = 0;
 
   // kinematics workspace (sized once)
@@ -159,7 +164,8 @@ class Brush {
   std::vector<Mat3> F_, Q_;
   VecX d_plus_, d_minus_, c_;
   // node-level gradient workspace
-  std::vector<Vec3> gO_, gu_;
+  std::vector<Vec3> gO_, gu_, tau_;  // d/dO_i, d/du_i, and the torque of vectors fixed in node i's lateral frame
+  std::vector<Vec3> lb_rest_[2];      // rest (t_i - t_{i-1}) of each side's lateral polyline, in (w_i, u_i, n_i) coordinates
   VecX gdp_, gdm_;
 
   // solver workspace (sized once; nothing is allocated inside solve())

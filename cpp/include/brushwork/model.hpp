@@ -19,9 +19,10 @@ struct BrushModel {
   double belly_radius = 4.0;            // mm, largest initial tuft radius r
   double belly_position = 0.3;          // fraction of the length from the root where r peaks
   double tip_radius_fraction = 0.04;    // tip radius / belly radius
+  double taper_power = 0.5;             // r ~ cos(...)^taper_power from belly to tip (small: fuller)
   double segment_ratio = 0.8;           // length of segment j+1 / length of segment j (< 1: shorter toward tip)
   double lateral_radius_fraction = 0.35;  // r_lat / r_i, effective radius of a lateral node
-  double collision_shrink = 0.55;       // Phi_i / Omega_i: shrunk sections used for collision
+  double collision_shrink = 0.4;        // Phi_i / Omega_i: shrunk sections used for collision
 
   // --- strain energy (seed "Energy Functions") ---
   double exponent = 2.0;                // m in kappa |theta|^m
@@ -30,7 +31,7 @@ struct BrushModel {
   double twist_stiffness = 0.5;         // twist kappa / bend kappa at the same joint (none at the root)
   double stretch_stiffness = 2.0;       // N*mm/mm^m, kappa of the stretch spring |delta^2 - S|^m at the belly
   double lateral_bend_stiffness = 0.5;  // N*mm, bend springs between consecutive lateral nodes
-  double spread_gain = 1.0;             // S at full press, as a fraction of r_i
+  double spread_gain = 1.5;             // S at full press, as a fraction of r_i
   double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
 
   // --- dissipation ---
@@ -54,7 +55,7 @@ struct BrushModel {
 
   // --- solver (seed "Real-time simulation") ---
   int q_max = 20;                       // SQP iterations per frame
-  double tolerance = 1e-6;              // KKT residual (scaled, see kkt_residual) to stop
+  double tolerance = 1e-5;              // KKT residual (scaled, see kkt_residual) to stop
   bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
 
   // throws std::invalid_argument naming the field and the value

@@ -1,0 +1,6 @@
+"""`python -m brushwork ...`: the same as the `brushwork` command."""
+import sys
+
+from .cli import main
+
+sys.exit(main())

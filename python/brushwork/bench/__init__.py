@@ -1,0 +1,1 @@
+"""Benchmarks for brushwork: solver robustness (`stability`), solver speed (`solver`), and report helpers."""

@@ -1,0 +1,128 @@
+"""Tiny report helpers for the benchmarks: Markdown tables and atomic JSON files."""
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from typing import Any, Sequence
+
+
+def format_value(v: Any) -> str:
+    """One table cell: floats to 3 significant digits (scientific when tiny or huge), ints as is,
+    booleans as yes/no, None as an empty cell."""
+    # none, booleans and integers first (bool is an int subclass)
+    if v is None:
+        return ""
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    # numpy scalars behave like python numbers after item()
+    if hasattr(v, "item") and not isinstance(v, (str, bytes)):
+        try:
+            return format_value(v.item())
+        except (TypeError, ValueError):
+            pass
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            return str(v)
+        if v == 0.0:
+            return "0"
+        a = abs(v)
+        if a < 1e-3 or a >= 1e6:
+            return f"{v:.2e}"
+        if a >= 100.0:
+            # 3 significant digits without an exponent: 18873.2 -> 18900
+            return str(int(round(v, 2 - int(math.floor(math.log10(a))))))
+        return f"{v:.3g}"
+    return str(v)
+
+
+def _cell(v: Any) -> str:
+    # keep a cell on one line and out of the table's column syntax
+    return format_value(v).replace("\r", " ").replace("\n", " ").replace("|", "\\|")
+
+
+def markdown_table(rows: Sequence[dict], columns: Sequence[str],
+                   headers: Sequence[str] | None = None) -> str:
+    """A GitHub-flavoured Markdown table of `rows` (dicts) showing `columns` (keys) in order.
+
+    `headers` optionally renames the columns (same length as `columns`); a missing key is an empty
+    cell. Numeric columns are right-aligned.
+    """
+    if headers is None:
+        headers = list(columns)
+    if len(headers) != len(columns):
+        raise ValueError(f"markdown_table: {len(headers)} headers for {len(columns)} columns")
+    cells = [[_cell(r.get(c)) for c in columns] for r in rows]
+    # a column is numeric when every non-empty value in it is a number
+    numeric = []
+    for c in columns:
+        vals = [r.get(c) for r in rows if r.get(c) is not None]
+        numeric.append(bool(vals) and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) or hasattr(v, "dtype") for v in vals))
+    widths = [max([len(str(h))] + [len(row[i]) for row in cells]) for i, h in enumerate(headers)]
+    # header, separator, body
+    lines = ["| " + " | ".join(str(h).ljust(w) for h, w in zip(headers, widths)) + " |"]
+    lines.append("|" + "|".join((("-" * (w + 1) + ":") if num else ("-" * (w + 2)))
+                                for w, num in zip(widths, numeric)) + "|")
+    for row in cells:
+        lines.append("| " + " | ".join(
+            (s.rjust(w) if num else s.ljust(w)) for s, w, num in zip(row, widths, numeric)) + " |")
+    return "\n".join(lines)
+
+
+def _jsonable(obj: Any) -> Any:
+    # numpy scalars and arrays to python; non-finite floats to None (strict JSON has no NaN)
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if hasattr(obj, "tolist") and not isinstance(obj, (str, bytes)):
+        return _jsonable(obj.tolist())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        return None
+    return obj
+
+
+def check_writable(path: str | os.PathLike) -> None:
+    """Raise FileNotFoundError / PermissionError / IsADirectoryError now if `path` cannot be
+    written later (its folder is missing or read-only, or it is a folder), so that a long benchmark
+    fails before it runs rather than after."""
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise FileNotFoundError(f"cannot write {path}: no such folder {folder}")
+    if os.path.isdir(path):
+        raise IsADirectoryError(f"cannot write {path}: it is a folder")
+    if not os.access(folder, os.W_OK):
+        raise PermissionError(f"cannot write {path}: folder {folder} is not writable")
+
+
+def write_json(path: str | os.PathLike, obj: Any) -> None:
+    """Write `obj` as indented JSON to `path` atomically (a temporary file in the same folder, then
+    os.replace). Numpy values become plain numbers and lists; NaN and inf become null."""
+    path = os.fspath(path)
+    check_writable(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    # write next to the target so that os.replace stays on one file system
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".json", dir=folder)
+    try:
+        # mkstemp makes the file private (0600): give it the usual umask permissions
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            json.dump(_jsonable(obj), f, indent=2, allow_nan=False)
+            f.write("\n")
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+

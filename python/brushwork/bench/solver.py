@@ -1,0 +1,87 @@
+"""Solver speed benchmark: the press-drag-turn-lift stroke with a carried and a fresh Hessian.
+
+Speeds are solved frames per second on one core: ``frames / sum(s.time)`` uses the core's own
+per-frame timing (no Python), and the wall-clock figure includes the Python loop around it.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from .. import BrushModel
+from ..brush import Brush
+from ..motions import press_drag_turn_lift
+
+# the two Hessian modes compared: name -> warm_hessian
+MODES = (("carried", True), ("fresh", False))
+
+
+def _one_run(model: BrushModel, poses) -> tuple[list, float]:
+    """Replay `poses` on a fresh brush; return (StepStats list, wall seconds of the loop)."""
+    b = Brush(model)
+    t0 = time.perf_counter()
+    stats = [b.step(p) for p in poses]
+    return stats, time.perf_counter() - t0
+
+
+def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
+    """Time press_drag_turn_lift(frames) on `preset` with q_max 20, carried and fresh Hessian.
+
+    Returns {"preset", "frames", "repeats", "q_max", "rows": [one dict per mode], "iteration_ratio"}
+    where each row has mode, warm_hessian, mean_iterations, converged_frac, fps_core (frames per
+    second from the core's own timing), fps_wall (frames per second including the Python loop),
+    p50_us and p95_us (per-frame core time in microseconds, from the run with the least core time).
+    The speed figures are the best of `repeats` runs; iteration_ratio = carried / fresh mean
+    iterations.
+    """
+    if frames < 50:
+        raise ValueError(f"frames = {frames} is too few (press_drag_turn_lift needs at least 50)")
+    if repeats < 1:
+        raise ValueError(f"repeats = {repeats} must be at least 1")
+    rows = []
+    for mode, warm in MODES:
+        # the model for this mode
+        m = BrushModel.preset(preset)
+        m.q_max = 20
+        m.warm_hessian = warm
+        poses = press_drag_turn_lift(m, frames=frames)
+        best_core, best_wall, best_times, iters, conv = math.inf, math.inf, None, None, None
+        # best of `repeats`: least summed core time, least wall time (each on its own)
+        for _ in range(repeats):
+            stats, wall = _one_run(m, poses)
+            times = np.array([s.time for s in stats], dtype=float)
+            core = float(times.sum())
+            if core < best_core:
+                best_core, best_times = core, times
+            best_wall = min(best_wall, wall)
+            iters = [int(s.iterations) for s in stats]
+            conv = sum(bool(s.converged) for s in stats) / len(stats)
+        rows.append({
+            "mode": mode,
+            "warm_hessian": warm,
+            "mean_iterations": float(np.mean(iters)),
+            "converged_frac": conv,
+            "fps_core": frames / best_core if best_core > 0 else math.inf,
+            "fps_wall": frames / best_wall if best_wall > 0 else math.inf,
+            "p50_us": float(np.percentile(best_times, 50) * 1e6),
+            "p95_us": float(np.percentile(best_times, 95) * 1e6),
+            "core_seconds": best_core,
+            "wall_seconds": best_wall,
+        })
+    carried, fresh = rows[0]["mean_iterations"], rows[1]["mean_iterations"]
+    return {"preset": preset, "frames": frames, "repeats": repeats, "q_max": 20, "rows": rows,
+            "iteration_ratio": carried / fresh if fresh > 0 else math.nan}
+
+
+def table(result: dict) -> str:
+    """The Markdown table of run()'s result plus the ratio line."""
+    from .report import format_value, markdown_table
+
+    text = markdown_table(
+        result["rows"], ["mode", "mean_iterations", "fps_core", "fps_wall", "p50_us", "p95_us"],
+        ["mode", "mean iterations", "frames/s (core)", "frames/s (wall)", "p50 µs", "p95 µs"])
+    return (text + f"\n\niterations carried/fresh: {format_value(result['iteration_ratio'])} "
+            f"({result['preset']}, {result['frames']} frames, q_max {result['q_max']}, "
+            f"best of {result['repeats']})")

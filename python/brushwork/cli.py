@@ -1,0 +1,151 @@
+"""The `brushwork` command line: benchmarks and the demo.
+
+    brushwork bench stability [--json FILE] [--quick] [--seed N]
+    brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
+    brushwork demo [-o FILE]
+
+New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
+name to (help, add_arguments, handler); a handler takes the parsed arguments and returns the exit
+code. ValueError and OSError from a handler print one `brushwork: error: ...` line and exit 2.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Callable, Optional
+
+Handler = Callable[[argparse.Namespace], int]
+AddArgs = Callable[[argparse.ArgumentParser], None]
+
+
+# bench stability
+def _stability_args(p: argparse.ArgumentParser) -> None:
+    from .bench import stability
+
+    stability.add_arguments(p)
+
+
+def _stability(args: argparse.Namespace) -> int:
+    from .bench import stability
+
+    return stability.handle(args)
+
+
+# bench solver
+def _solver_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+    p.add_argument("--frames", type=int, default=320, help="frames of the stroke (default 320)")
+    p.add_argument("--repeats", type=int, default=5, help="runs per mode, best kept (default 5)")
+
+
+def _solver(args: argparse.Namespace) -> int:
+    from . import BrushModel
+    from .bench import report, solver
+
+    if args.preset not in BrushModel.presets():
+        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
+    # fail on an unwritable --json target before the run, not after
+    if args.json:
+        report.check_writable(args.json)
+    result = solver.run(preset=args.preset, frames=args.frames, repeats=args.repeats)
+    print(solver.table(result))
+    if args.json:
+        report.write_json(args.json, {"benchmark": "solver", **result})
+    return 0
+
+
+# benchmarks not written yet: accept anything, say so, exit 2
+def _pending_args(p: argparse.ArgumentParser) -> None:
+    p.set_defaults(accepts_extra=True)
+
+
+def _pending(what: str) -> Handler:
+    def handler(args: argparse.Namespace) -> int:
+        print(f"brushwork: not implemented yet: {what}", file=sys.stderr)
+        return 2
+    return handler
+
+
+# demo (brushwork.demo is someone else's module: imported only when asked for)
+def _demo_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("-o", "--output", metavar="FILE", default=None,
+                   help="the image the demo writes (default: the demo's own, brush_demo.png)")
+
+
+def _demo(args: argparse.Namespace) -> int:
+    try:
+        from . import demo
+    except ModuleNotFoundError as exc:
+        if exc.name not in ("brushwork.demo",):
+            raise
+        print("brushwork: error: the demo is not available in this build (no brushwork.demo)",
+              file=sys.stderr)
+        return 2
+    # without -o the demo picks its own file name
+    rc = demo.main(args.output) if args.output else demo.main()
+    return rc if isinstance(rc, int) else 0
+
+
+# the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
+BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
+    "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
+    "solver": ("solver speed, carried vs fresh Hessian", _solver_args, _solver),
+    "render": ("(not implemented yet)", _pending_args, _pending("bench render")),
+    "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
+    "precision": ("(not implemented yet)", _pending_args, _pending("bench precision")),
+}
+
+
+def _bench_args(p: argparse.ArgumentParser) -> None:
+    sub = p.add_subparsers(dest="benchmark", metavar="BENCHMARK")
+    sub.required = True
+    for name, (help_text, add_args, handler) in BENCHMARKS.items():
+        q = sub.add_parser(name, help=help_text, description=help_text)
+        add_args(q)
+        q.set_defaults(handler=handler)
+
+
+# the top-level commands: name -> (help, add_arguments, handler or None when subcommands set it)
+COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
+    "bench": ("run a benchmark", _bench_args, None),
+    "demo": ("draw the demo", _demo_args, _demo),
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argparse parser of the whole CLI."""
+    from . import __version__
+
+    parser = argparse.ArgumentParser(prog="brushwork", description=__doc__.splitlines()[0])
+    parser.add_argument("--version", action="version", version=f"brushwork {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for name, (help_text, add_args, handler) in COMMANDS.items():
+        p = sub.add_parser(name, help=help_text, description=help_text)
+        add_args(p)
+        if handler is not None:
+            p.set_defaults(handler=handler)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse `argv` (default sys.argv[1:]), run the command, return its exit code."""
+    parser = build_parser()
+    try:
+        # placeholders take any arguments; everything else must parse exactly
+        args, extra = parser.parse_known_args(argv)
+        if extra and not getattr(args, "accepts_extra", False):
+            parser.error(f"unrecognized arguments: {' '.join(extra)}")
+        return int(args.handler(args))
+    # user-facing failures: one line, exit 2
+    except (ValueError, OSError) as exc:
+        print(f"brushwork: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("brushwork: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

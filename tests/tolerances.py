@@ -1,0 +1,22 @@
+"""Named tolerances for the test suite, and a comparison that says which entry failed and by how much."""
+from __future__ import annotations
+
+import numpy as np
+
+GRADIENT_REL = 1e-5          # normalised relative error of analytic vs finite-difference derivatives
+PENETRATION_FRAC = 0.01      # shrunk sections below the paper, as a fraction of the tuft length
+MERIT_SLACK = 1e-12          # relative round-off allowed when checking the merit never rises
+STRAIGHT_ANGLE = 1e-6        # rad: "straight" bend angles of an untouched brush
+CARRIED_HESSIAN_RATIO = 0.7  # mean iterations carried / fresh on a recorded stroke (seed: 7.4 / 14.6)
+
+
+def assert_rel_close(name: str, got: np.ndarray, want: np.ndarray, rel: float) -> None:
+    """Normalised relative error |got - want|_inf / max(|want|_inf, |got|_inf, tiny) <= rel."""
+    got, want = np.asarray(got, float), np.asarray(want, float)
+    scale = max(np.abs(want).max(initial=0.0), np.abs(got).max(initial=0.0), 1e-300)
+    diff = np.abs(got - want)
+    err = diff.max(initial=0.0) / scale
+    if not err <= rel:
+        k = int(np.argmax(diff))
+        raise AssertionError(f"{name}: normalised error {err:.3e} > {rel:.1e}; worst entry {k}: "
+                             f"got {got.flat[k]:.9g}, want {want.flat[k]:.9g}")
