@@ -25,6 +25,35 @@ inline double neg_sum(const VecX& g, int m) {
 inline double d2pow(double e, double m) {
   return m == 2.0 ? 2.0 : m * (m - 1.0) * std::pow(std::abs(e), m - 2.0);
 }
+
+// solve A x = b for the leading k x k block of A (symmetric positive definite, overwritten by its
+// Cholesky factor) into x; false if A is not positive definite.  k <= kMaxSegments + 2: no
+// allocation.
+bool cholesky_solve(Eigen::MatrixXd& A, const VecX& b, VecX& x, int k) {
+  for (int a = 0; a < k; ++a) {
+    double d = A(a, a);
+    for (int c = 0; c < a; ++c) d -= A(a, c) * A(a, c);
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A(a, a) = d;
+    for (int r = a + 1; r < k; ++r) {
+      double v = A(r, a);
+      for (int c = 0; c < a; ++c) v -= A(r, c) * A(a, c);
+      A(r, a) = v / d;
+    }
+  }
+  for (int a = 0; a < k; ++a) {  // forward, then backward substitution
+    double v = b[a];
+    for (int c = 0; c < a; ++c) v -= A(a, c) * x[c];
+    x[a] = v / A(a, a);
+  }
+  for (int a = k - 1; a >= 0; --a) {
+    double v = x[a];
+    for (int c = a + 1; c < k; ++c) v -= A(c, a) * x[c];
+    x[a] = v / A(a, a);
+  }
+  return true;
+}
 }  // namespace
 
 // H = diag(1/b): b from the separable springs' curvature at x, floored, plus a Gauss-Newton
@@ -113,31 +142,8 @@ int Brush::solve_box_qp(int m, double nu) {
         for (int b = 0; b < nf; ++b) Mff_(a, b) = M_(idx[a], idx[b]);
         Mff_(a, a) += reg;
       }
-      // small dense Cholesky in place (M is PSD; reg keeps it definite)
-      bool ok = true;
-      for (int a = 0; a < nf && ok; ++a) {
-        double d = Mff_(a, a);
-        for (int k = 0; k < a; ++k) d -= Mff_(a, k) * Mff_(a, k);
-        if (!(d > 0.0)) { ok = false; break; }
-        d = std::sqrt(d);
-        Mff_(a, a) = d;
-        for (int b = a + 1; b < nf; ++b) {
-          double v = Mff_(b, a);
-          for (int k = 0; k < a; ++k) v -= Mff_(b, k) * Mff_(a, k);
-          Mff_(b, a) = v / d;
-        }
-      }
-      if (!ok) return -1;
-      for (int a = 0; a < nf; ++a) {  // forward, then backward substitution
-        double v = rhs_[a];
-        for (int k = 0; k < a; ++k) v -= Mff_(a, k) * lam_f_[k];
-        lam_f_[a] = v / Mff_(a, a);
-      }
-      for (int a = nf - 1; a >= 0; --a) {
-        double v = lam_f_[a];
-        for (int k = a + 1; k < nf; ++k) v -= Mff_(k, a) * lam_f_[k];
-        lam_f_[a] = v / Mff_(a, a);
-      }
+      // small dense Cholesky (M is PSD; reg keeps it definite)
+      if (!cholesky_solve(Mff_, rhs_, lam_f_, nf)) return -1;
       // ratio test toward the free-set solution
       double t = 1.0;
       int hit = -1, hit_state = 0;
@@ -184,28 +190,7 @@ bool Brush::soc_solve(const int* idx, int k) {
     for (int b = 0; b < k; ++b) Mff_(a, b) = M_(idx[a], idx[b]);
     Mff_(a, a) += 1e-13 * std::abs(M_(idx[a], idx[a])) + 1e-300;
   }
-  for (int a = 0; a < k; ++a) {
-    double d = Mff_(a, a);
-    for (int c = 0; c < a; ++c) d -= Mff_(a, c) * Mff_(a, c);
-    if (!(d > 0.0)) return false;
-    d = std::sqrt(d);
-    Mff_(a, a) = d;
-    for (int b = a + 1; b < k; ++b) {
-      double v = Mff_(b, a);
-      for (int c = 0; c < a; ++c) v -= Mff_(b, c) * Mff_(a, c);
-      Mff_(b, a) = v / d;
-    }
-  }
-  for (int a = 0; a < k; ++a) {
-    double v = rhs_[a];
-    for (int c = 0; c < a; ++c) v -= Mff_(a, c) * lam_f_[c];
-    lam_f_[a] = v / Mff_(a, a);
-  }
-  for (int a = k - 1; a >= 0; --a) {
-    double v = lam_f_[a];
-    for (int c = a + 1; c < k; ++c) v -= Mff_(c, a) * lam_f_[c];
-    lam_f_[a] = v / Mff_(a, a);
-  }
+  if (!cholesky_solve(Mff_, rhs_, lam_f_, k)) return false;
   s_.setZero();
   for (int a = 0; a < k; ++a) s_ += lam_f_[a] * HJt_.col(idx[a]);
   return s_.allFinite();
