@@ -147,8 +147,6 @@ Brush::Brush(const BrushModel& model) : model_(model) {
       lb_rest_[side][i] = Vec3(v.dot(w_[i]), v.dot(u_[i]), v.dot(nrm_[i]));
     }
   }
-  stats_.merit_before.reserve(model_.q_max + 8);
-  stats_.merit_after.reserve(model_.q_max + 8);
   reset();
 }
 
@@ -167,6 +165,11 @@ void Brush::reset() {
   nu_ = 0.0;
   kinematics(x_);
   stats_ = StepStats();
+  // per-step traces keep their capacity, so solve() does not allocate after this
+  stats_.merit_before.reserve(model_.q_max + 8);
+  stats_.merit_after.reserve(model_.q_max + 8);
+  stats_.step_sizes.reserve(model_.q_max + 8);
+  stats_.kkt_trace.reserve(model_.q_max + 8);
 }
 
 // ---------------------------------------------------------------------------------------------
