@@ -371,50 +371,40 @@ void Brush::solve() {
     const double pmax = step_.cwiseAbs().maxCoeff();
     double alpha = std::min(1.0, 0.5 / pmax);
 
-    // backtracking on the merit; a trial with a non-finite value is rejected, never accepted
+    // backtracking on the merit; a trial with a non-finite value is rejected, never accepted.
+    // trial(): the merit at zt_ (set by the caller); gtrial_ keeps g there
     bool accepted = false;
     double f_new = 0.0, merit_new = 0.0;
+    auto trial = [&](double a) {
+      xf_trial_ = x_;
+      scatter(zt_, xf_trial_);
+      f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
+      merit_new = f_new + nu_ * neg_sum(gtrial_, m);
+      return std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * a * D;
+    };
     if (alpha == 1.0 && m > 0) {
       // try the full step first, and if the merit rejects it, a second-order correction: curved
       // constraints make the l1 merit refuse good full steps near the solution (the Maratos
       // effect); p_c = H J_A^T mu with (J_A H J_A^T) mu = -g_A(x + p) puts the active
       // constraints back on the paper at second order, and the same merit test decides
       zt_ = za_ + step_;
-      xf_trial_ = x_;
-      scatter(zt_, xf_trial_);
-      f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
-      merit_new = f_new + nu_ * neg_sum(gtrial_, m);
-      if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * D) {
-        accepted = true;
-      } else if (std::isfinite(merit_new)) {
+      accepted = trial(1.0);
+      if (!accepted && std::isfinite(merit_new)) {
         int na_act = 0, idx[kMaxSegments + 2];
         for (int i = 0; i < m; ++i)
           if (lam_[i] > 0.0) idx[na_act++] = i;
         if (na_act > 0 && soc_solve(idx, na_act)) {
           zt_ = za_ + step_ + s_;
-          xf_trial_ = x_;
-          scatter(zt_, xf_trial_);
-          f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
-          merit_new = f_new + nu_ * neg_sum(gtrial_, m);
-          if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * D) {
-            accepted = true;
-            step_ += s_;  // the accepted displacement, for the BFGS pair
-          }
+          accepted = trial(1.0);
+          if (accepted) step_ += s_;  // the accepted displacement, for the BFGS pair
         }
       }
       if (!accepted) alpha = 0.5;
     }
     for (int ls = 0; ls < 40 && !accepted; ++ls) {
       zt_ = za_ + alpha * step_;
-      xf_trial_ = x_;
-      scatter(zt_, xf_trial_);
-      f_new = evaluate(xf_trial_, nullptr, &gtrial_, nullptr);
-      merit_new = f_new + nu_ * neg_sum(gtrial_, m);
-      if (std::isfinite(merit_new) && merit_new <= merit0 + 1e-4 * alpha * D) {
-        accepted = true;
-        break;
-      }
-      alpha *= 0.5;
+      accepted = trial(alpha);
+      if (!accepted) alpha *= 0.5;
     }
     if (!accepted) {
       ++stats_.line_search_failures;
