@@ -21,6 +21,14 @@ def lowered(brush, depth_frac, z_from=None, steps_per_mm=2, settle=5, tilt=0.0):
     return s, target
 
 
+def brush_with(preset="medium", **fields):
+    """A fresh Brush of `preset` with some model fields changed."""
+    m = bw.BrushModel.preset(preset)
+    for name, value in fields.items():
+        setattr(m, name, value)
+    return bw.Brush(m)
+
+
 def footprint_extent(brush, axis):
     loops = brush.footprint()
     if not loops:
@@ -60,10 +68,8 @@ def test_without_lateral_spreading_the_footprint_is_narrower():
     # for a handle leaning toward +x)
     widths = {}
     for spreading in (True, False):
-        m = bw.BrushModel.preset("medium")
-        m.lateral_spreading = spreading
-        b = bw.Brush(m)
-        replay(b, pressed_drag(m, frames=40, press=0.2, tilt_deg=30.0, speed=0.0))
+        b = brush_with(lateral_spreading=spreading)
+        replay(b, pressed_drag(b.model, frames=40, press=0.2, tilt_deg=30.0, speed=0.0))
         widths[spreading] = footprint_extent(b, axis=1)
     assert widths[False] > 0.0
     assert widths[True] > 1.5 * widths[False], widths
@@ -71,9 +77,8 @@ def test_without_lateral_spreading_the_footprint_is_narrower():
 
 def test_without_collision_the_brush_passes_through_the_paper():
     # seed Figure 1d: no collision handling, the footprint is a cross section of the straight tuft
-    m = bw.BrushModel.preset("medium")
-    m.collision = False
-    b = bw.Brush(m)
+    b = brush_with(collision=False)
+    m = b.model
     L = m.tuft_length
     for z in np.linspace(L + 1, 0.5 * L, 40):
         s = b.step(bw.Pose((0.0, 0.0, z)))
@@ -103,9 +108,8 @@ def test_a_tilted_drag_trails_the_tip_and_a_sideways_lean_biases_it():
 
 
 def _bend_after_release(alpha_deg):
-    m = bw.BrushModel.preset("medium")
-    m.plasticity_alpha = alpha_deg
-    b = bw.Brush(m)
+    b = brush_with(plasticity_alpha=alpha_deg)
+    m = b.model
     poses = pressed_drag(m, frames=100, press=0.25, tilt_deg=30.0)
     replay(b, poses)
     last = poses[-1]
@@ -130,9 +134,8 @@ def test_pore_resistance_bends_a_pushed_brush_more():
     # seed Figure 5: pushing toward the tip, the pores hold the tip and the tuft bends more
     bends = {}
     for pores in (True, False):
-        m = bw.BrushModel.preset("medium")
-        m.pore_resistance = pores
-        b = bw.Brush(m)
+        b = brush_with(pore_resistance=pores)
+        m = b.model
         stats = replay(b, pressed_drag(m, frames=80, azimuth_deg=180.0, heading_deg=0.0,
                                        tilt_deg=30.0, press=0.15))
         if pores:

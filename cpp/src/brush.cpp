@@ -117,6 +117,8 @@ Brush::Brush(const BrushModel& model) : model_(model) {
   c_prev_ = r0_;
   wetness = VecX::Ones(n_ + 1);
   lambda_ = VecX::Zero(mmax_);
+  save_.x = save_.x_prev = save_.rest = VecX::Zero(nx_);
+  save_.lambda = VecX::Zero(mmax_);
 
   for (VecX* v : {&xf_trial_, &gf_, &gf_new_, &x_eval_, &tmp_full_}) v->resize(nx_);
   for (VecX* v : {&za_, &zt_, &gact_, &gact_new_, &s_, &yv_, &r_, &Hr_, &Bs_, &tmp_, &h0_})

@@ -204,42 +204,38 @@ bool Brush::soc_solve(const int* idx, int k) {
 StepStats Brush::step(const Pose& pose) {
   const auto t0 = std::chrono::steady_clock::now();
   pose.validate();
-  int substeps = 1;
-  Pose from = pose_;
-  if (model_.collision) {
-    // how deep would the first iterate go?  (a dry run of the frame set-up on a copy of the
-    // root and the last state; begin_frame itself only reads)
-    const VecX x_keep = x_, xp_keep = x_prev_;
-    const Pose pose_keep = pose_;
-    const bool touched_keep = touched_since_reset_, prev_keep = have_prev_positions_;
-    const int m_keep = m_;
-    const bool pore_keep = pore_on_prev_;
-    const Eigen::Vector2d anchor_keep = pore_anchor_;
-    const VecX lam_keep = lambda_;
-    begin_frame(pose);
-    const double pen = std::max(0.0, -section_heights().minCoeff());
-    x_ = x_keep;
-    x_prev_ = xp_keep;
-    touched_since_reset_ = touched_keep;
-    have_prev_positions_ = prev_keep;
-    m_ = m_keep;
-    pore_on_prev_ = pore_keep;
-    pore_anchor_ = anchor_keep;
-    lambda_ = lam_keep;
-    pose_ = pose_keep;
-    const double step_pen = 0.02 * model_.tuft_length;
-    if (pen > step_pen) substeps = std::min(32, static_cast<int>(std::ceil(pen / step_pen)));
-    // a fresh (or reset) brush has no last pose: it comes down from straight above
-    if (!have_prev_positions_) {
-      from = pose;
-      from.position.z() += 1.2 * pen + step_pen;
-    }
-  }
   // sleep rule: the same pose as last frame and a residual within 10x tolerance means no motion
   // (without it, modes without a spring, like phi_0, creep by ~1e-5 rad a frame forever)
   same_pose_ = have_prev_positions_ && pose.position == pose_.position &&
                pose.tilt_deg == pose_.tilt_deg && pose.azimuth_deg == pose_.azimuth_deg &&
                pose.twist_deg == pose_.twist_deg;
+
+  // set the frame up once; if its first iterate sinks too deep, put the state back and split
+  // the frame into sub-steps from the last pose.  The saved copies live in buffers sized once.
+  int substeps = 1;
+  Pose from = pose_;
+  // every (saved, live) pair the frame set-up changes, in one list for both directions
+  auto each_pair = [&](auto&& f) {
+    f(save_.x, x_), f(save_.x_prev, x_prev_), f(save_.rest, rest_), f(save_.lambda, lambda_);
+    f(save_.pose, pose_), f(save_.touched, touched_since_reset_);
+    f(save_.have_prev, have_prev_positions_), f(save_.pore_on_prev, pore_on_prev_);
+    f(save_.pore_anchor, pore_anchor_), f(save_.m, m_);
+  };
+  each_pair([](auto& saved, const auto& live) { saved = live; });
+  begin_frame(pose);
+  if (model_.collision) {
+    const double pen = std::max(0.0, -section_heights().minCoeff());
+    const double step_pen = 0.02 * model_.tuft_length;
+    if (pen > step_pen) {
+      substeps = std::min(32, static_cast<int>(std::ceil(pen / step_pen)));
+      each_pair([](const auto& saved, auto& live) { live = saved; });
+      // a fresh (or reset) brush has no last pose: it comes down from straight above
+      if (!have_prev_positions_) {
+        from = pose;
+        from.position.z() += 1.2 * pen + step_pen;
+      }
+    }
+  }
   int iterations = 0, ls_fail = 0, resets = 0;
   std::vector<double> mb, ma;
   for (int k = 1; k <= substeps; ++k) {
@@ -254,7 +250,7 @@ StepStats Brush::step(const Pose& pose) {
       p.azimuth_deg = pose.azimuth_deg - (1.0 - t) * da;
       p.twist_deg = pose.twist_deg - (1.0 - t) * dt;
     }
-    begin_frame(p);
+    if (substeps > 1) begin_frame(p);  // a single step was set up above
     solve();
     end_frame();
     iterations += stats_.iterations;

@@ -177,6 +177,14 @@ class Brush {
   std::vector<int> qp_state_;
   Eigen::MatrixXd Mff_;
   VecX rhs_;
+  // the state step() puts back when it splits a frame into sub-steps (sized once)
+  struct FrameSave {
+    VecX x, x_prev, rest, lambda;
+    Pose pose;
+    bool touched = false, have_prev = false, pore_on_prev = false;
+    Eigen::Vector2d pore_anchor = Eigen::Vector2d::Zero();
+    int m = 0;
+  } save_;
   StepStats stats_;
 };
 
