@@ -20,3 +20,9 @@ def assert_rel_close(name: str, got: np.ndarray, want: np.ndarray, rel: float) -
         k = int(np.argmax(diff))
         raise AssertionError(f"{name}: normalised error {err:.3e} > {rel:.1e}; worst entry {k}: "
                              f"got {got.flat[k]:.9g}, want {want.flat[k]:.9g}")
+
+# rendering
+INK_AREA_REL = 0.02          # ink area vs the core's footprint polygon at 2048 px (issue 3)
+INK_CONSERVATION_REL = 0.01  # ink deposited vs ink lost by the brush
+MASK_IOU_RESOLUTION = 0.98   # 1024 px vs 4096 px downsampled
+MASK_THRESHOLD = 0.5         # ink coverage above which a pixel counts as inked

@@ -1,6 +1,9 @@
 """brushwork: the expressive virtual Chinese brush of Chu and Tai (2004), and what it leaves on paper."""
-from ._core import BrushModel, MeshOptions, StepStats
+from ._core import BrushModel, DepositStats, Ink, MeshOptions, StepStats
 from .brush import Brush, Pose
+from .paper import Paper, render_info
+from .scene import Scene
 
-__all__ = ["Brush", "BrushModel", "MeshOptions", "Pose", "StepStats"]
+__all__ = ["Brush", "BrushModel", "DepositStats", "Ink", "MeshOptions", "Paper", "Pose", "Scene",
+           "StepStats", "render_info"]
 __version__ = "0.1.0"

@@ -1,6 +1,10 @@
 """The friendly face of the C++ brush: `Brush` and `Pose` (see DESIGN.md's promised names)."""
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from . import _core
 
 Pose = _core.Pose
@@ -19,6 +23,38 @@ class Brush(_core.Brush):
         if isinstance(model, str):
             model = _core.BrushModel.preset(model)
         super().__init__(model)
+
+    @property
+    def ink(self) -> _core.Ink:
+        """The ink on this brush, full on first use (see `load_ink`)."""
+        if getattr(self, "_ink", None) is None:
+            m = self.model
+            self._ink = _core.Ink(self, self.default_ink_mm2())
+        return self._ink
+
+    @ink.setter
+    def ink(self, value: _core.Ink) -> None:
+        value.validate(self.model.n_segments + 1)
+        self._ink = value
+
+    def load_ink(self, total_mm2: float | None = None, ramp=None, excess: float = 1.0) -> _core.Ink:
+        """Dip the brush: full ink (`total_mm2` of paper at full density; default 2 pi r^2 L
+        mm^2, about what the tuft's volume holds), wetness 1, `excess` soaked-tip moisture,
+        and an optional colour `ramp` ((K, 4) straight RGBA from root to tip)."""
+        m = self.model
+        total = total_mm2 if total_mm2 is not None else self.default_ink_mm2()
+        ink = _core.Ink(self, float(total))
+        if ramp is not None:
+            ink.ramp = [tuple(float(c) for c in rgba) for rgba in ramp]
+        ink.excess = float(excess)
+        self._ink = ink
+        self.wetness = np.ones(m.n_segments + 1)
+        return ink
+
+    def default_ink_mm2(self) -> float:
+        """Ink a dipped tuft holds, in mm^2 of paper at full density: 2 pi r^2 L."""
+        m = self.model
+        return 2.0 * math.pi * m.belly_radius ** 2 * m.tuft_length
 
     def lateral_nodes(self):
         """(n+1, 2, 3) lateral node positions in mm: [:, 0] on the +u side, [:, 1] on the -u side."""

@@ -93,3 +93,31 @@ def mean_iterations(model: BrushModel, poses, warm_hessian: bool) -> float:
     m.warm_hessian = warm_hessian
     b = Brush(m)
     return float(np.mean([s.iterations for s in replay(b, poses)]))
+
+
+def straight_stroke(model: BrushModel, start=(0.0, 0.0), length_mm: float = 60.0,
+                    step_mm: float = 1.0, press: float = 0.2, tilt_deg: float = 15.0,
+                    heading_deg: float = 0.0, azimuth_deg: float | None = None,
+                    press_frames: int = 12, lift_frames: int = 6) -> list[Pose]:
+    """Descend at `start` (mm) and press `press` L below first contact over `press_frames`,
+    drag `length_mm` along `heading_deg` in steps of `step_mm` per frame, then lift while
+    moving on. The handle leans toward the heading unless `azimuth_deg` says otherwise."""
+    if not (step_mm > 0 and length_mm > 0):
+        raise ValueError(f"straight_stroke: step_mm = {step_mm} and length_mm = {length_mm} must be > 0")
+    L = model.tuft_length
+    az = heading_deg if azimuth_deg is None else azimuth_deg
+    contact_z = L * math.cos(math.radians(tilt_deg))
+    z_air, z_press = contact_z + 0.1 * L, contact_z - press * L
+    h = math.radians(heading_deg)
+    ux, uy = math.cos(h), math.sin(h)
+    poses = [Pose((start[0], start[1], _lerp(z_air, z_press, (k + 1) / press_frames)), tilt_deg, az)
+             for k in range(press_frames)]
+    n_drag = max(1, int(math.ceil(length_mm / step_mm - 1e-9)))
+    for k in range(n_drag):
+        d = min(length_mm, step_mm * (k + 1))
+        poses.append(Pose((start[0] + d * ux, start[1] + d * uy, z_press), tilt_deg, az))
+    for k in range(lift_frames):
+        d = length_mm + 0.05 * L * (k + 1)
+        poses.append(Pose((start[0] + d * ux, start[1] + d * uy,
+                           _lerp(z_press, z_air + 0.1 * L, (k + 1) / lift_frames)), tilt_deg, az))
+    return poses

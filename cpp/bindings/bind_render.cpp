@@ -1,0 +1,136 @@
+// RenderContext, Scene, Ink, DepositStats and Paper.  Images cross as numpy float32, row 0 at
+// the top of the paper.  The GL context is bound to the calling thread on every call, so the
+// GIL stays held: two Python threads must not render at once.
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "brushwork/render.hpp"
+
+namespace py = pybind11;
+using namespace brushwork;
+
+namespace {
+
+py::dict info_dict(const RenderInfo& i) {
+  py::dict d;
+  d["backend"] = i.backend;
+  d["device_index"] = i.device_index;
+  d["device_count"] = i.device_count;
+  d["vendor"] = i.vendor;
+  d["renderer"] = i.renderer;
+  d["version"] = i.version;
+  d["max_texture_size"] = i.max_texture_size;
+  return d;
+}
+
+using FloatImage = py::array_t<float, py::array::c_style | py::array::forcecast>;
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  py::class_<RenderContext, std::shared_ptr<RenderContext>>(m, "RenderContext", R"doc(
+The process's OpenGL context through EGL (shared by every Paper). BRUSHWORK_RENDER = auto | gpu |
+software | disable and BRUSHWORK_EGL_DEVICE = index choose it. close() may be called twice.)doc")
+      .def_static("acquire", &RenderContext::acquire)
+      .def_property_readonly("info", [](const RenderContext& c) { return info_dict(c.info()); })
+      .def_property_readonly("closed", &RenderContext::closed)
+      .def("close", &RenderContext::close)
+      .def("__enter__", [](std::shared_ptr<RenderContext> c) { return c; })
+      .def("__exit__", [](RenderContext& c, py::args) { c.close(); });
+
+  py::class_<SceneFeatures>(m, "SceneFeatures", R"doc(
+What a scene uses; what it does not use is not computed and not compiled into the shaders.)doc")
+      .def(py::init<>())
+      .def_readwrite("split_map", &SceneFeatures::split_map)
+      .def_readwrite("dry_map", &SceneFeatures::dry_map)
+      .def_readwrite("grain", &SceneFeatures::grain)
+      .def_readwrite("soaked_tip", &SceneFeatures::soaked_tip)
+      .def_readwrite("color_ramp", &SceneFeatures::color_ramp)
+      .def_readwrite("depletion", &SceneFeatures::depletion)
+      .def_readwrite("dry_onset", &SceneFeatures::dry_onset)
+      .def_readwrite("dry_pressure", &SceneFeatures::dry_pressure)
+      .def_readwrite("grain_onset", &SceneFeatures::grain_onset)
+      .def_readwrite("grain_pressure", &SceneFeatures::grain_pressure)
+      .def_readwrite("grain_period_mm", &SceneFeatures::grain_period_mm)
+      .def_readwrite("soak_expand", &SceneFeatures::soak_expand)
+      .def_readwrite("soak_shift", &SceneFeatures::soak_shift)
+      .def_readwrite("soak_drain_mm", &SceneFeatures::soak_drain_mm)
+      .def_readwrite("seed", &SceneFeatures::seed)
+      .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
+      .def_readwrite("mesh_around", &SceneFeatures::mesh_around)
+      .def("validate", &SceneFeatures::validate);
+
+  py::class_<Ink>(m, "Ink", R"doc(
+Ink on one brush. ramp: (K, 4) straight RGBA root..tip; load, capacity: (n+1,) mm^2 of paper at
+full density per spine node (wetness = load / capacity); excess: soaked-tip moisture 0..1;
+deposited: mm^2 given to the paper so far (depletion scenes).)doc")
+      .def(py::init([](const Brush& brush, double total_mm2) { return Ink::full(brush, total_mm2); }),
+           py::arg("brush"), py::arg("total_mm2") = 2000.0)
+      .def_property(
+          "ramp", [](const Ink& k) { return k.ramp; },
+          [](Ink& k, const std::vector<std::array<float, 4>>& r) {
+            Ink t = k;
+            t.ramp = r;
+            t.validate(static_cast<int>(k.load.size()));
+            k.ramp = r;
+          })
+      .def_readwrite("load", &Ink::load)
+      .def_readwrite("capacity", &Ink::capacity)
+      .def_readwrite("excess", &Ink::excess)
+      .def_readwrite("deposited", &Ink::deposited)
+      .def("total", &Ink::total, "mm^2 of ink left on the brush")
+      .def("validate", &Ink::validate, py::arg("nodes"));
+
+  py::class_<DepositStats>(m, "DepositStats")
+      .def_readonly("contact", &DepositStats::contact)
+      .def_readonly("new_stroke", &DepositStats::new_stroke)
+      .def_readonly("substeps", &DepositStats::substeps)
+      .def_readonly("deposited", &DepositStats::deposited, "mm^2 (depletion scenes)")
+      .def_readonly("rect", &DepositStats::rect, "px (x0, y0, x1, y1), y up, exclusive")
+      .def("__repr__", [](const DepositStats& s) {
+        return "DepositStats(contact=" + std::string(s.contact ? "True" : "False") +
+               ", new_stroke=" + (s.new_stroke ? "True" : "False") +
+               ", substeps=" + std::to_string(s.substeps) +
+               ", deposited=" + std::to_string(s.deposited) + ")";
+      });
+
+  py::class_<Paper>(m, "Paper")
+      .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),
+           py::arg("height_mm"), py::arg("px_per_mm"), py::arg("scene") = SceneFeatures(),
+           py::arg("tile_px") = 0, py::keep_alive<1, 5>())
+      .def("deposit", &Paper::deposit, py::arg("brush"), py::arg("ink") = nullptr)
+      .def("end_stroke", &Paper::end_stroke)
+      .def("undo", &Paper::undo)
+      .def("clear", &Paper::clear)
+      .def_property_readonly("width_px", &Paper::width_px)
+      .def_property_readonly("height_px", &Paper::height_px)
+      .def_property_readonly("px_per_mm", &Paper::px_per_mm)
+      .def_property_readonly("width_mm", &Paper::width_mm)
+      .def_property_readonly("height_mm", &Paper::height_mm)
+      .def_property_readonly("tile_px", &Paper::tile_px)
+      .def_property_readonly("tiles", &Paper::tiles)
+      .def_property_readonly("samples", &Paper::samples, "multisampling of the stroke layer")
+      .def_property_readonly("scene", &Paper::scene)
+      .def("ink", [](Paper& p) {
+        py::array_t<float> a({p.height_px(), p.width_px()});
+        p.read_ink(a.mutable_data());
+        return a;
+      }, "(H, W) float32 ink coverage in [0, 1], row 0 at the top of the paper")
+      .def("rgba", [](Paper& p) {
+        py::array_t<float> a({p.height_px(), p.width_px(), 4});
+        p.read_rgba(a.mutable_data());
+        return a;
+      }, "(H, W, 4) float32 premultiplied RGBA, row 0 at the top")
+      .def("set_rgba", [](Paper& p, const FloatImage& a) {
+        if (a.ndim() != 3 || a.shape(0) != p.height_px() || a.shape(1) != p.width_px() || a.shape(2) != 4)
+          throw std::invalid_argument("set_rgba: expected a (" + std::to_string(p.height_px()) + ", " +
+                                      std::to_string(p.width_px()) + ", 4) array");
+        p.write_rgba(a.data());
+      }, py::arg("rgba"))
+      .def("set_map", [](Paper& p, const std::string& which, const FloatImage& a) {
+        if (a.ndim() != 2) throw std::invalid_argument("set_map: expected a 2-D grey-scale array");
+        p.set_map(which, a.data(), static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)));
+      }, py::arg("which"), py::arg("image"));
+}

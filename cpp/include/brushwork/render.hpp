@@ -1,0 +1,193 @@
+// Offscreen rendering through EGL (seed "Ink depositing" and "System prototype"): a shared GL
+// context, a paper canvas of float ink in tiles, the footprint pass that deposits what the brush
+// leaves on the paper, and a brush view for previews.
+//
+// Coordinates: paper millimetres, x right, y up, origin at the paper's bottom-left corner, paper at
+// z = 0 and z up (the brush core's frame).  Pixel (i, j) of the paper covers
+// [i, i+1] x [j, j+1] / px_per_mm mm, row j = 0 at the bottom; readback flips rows once so that
+// numpy row 0 is the top of the paper.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "brushwork/brush.hpp"
+
+namespace brushwork {
+
+// ---------------------------------------------------------------------------------------------
+// context
+
+// Which EGL path the context took, and what the driver says about itself.
+struct RenderInfo {
+  std::string backend;   // "egl-device" (a GPU through EGL device enumeration),
+                         // "mesa-surfaceless" (software) or "default-display"
+  int device_index = -1; // index among the enumerated EGL devices, -1 when none was used
+  int device_count = 0;  // EGL devices enumerated
+  std::string vendor, renderer, version;  // glGetString
+  int max_texture_size = 0;               // px, GL_MAX_TEXTURE_SIZE
+};
+
+// One OpenGL 3.3 core context shared by every Paper and BrushView of the process.  Selection
+// (Open3D's and MuJoCo's order): BRUSHWORK_RENDER = auto (default) | gpu | software | disable;
+// BRUSHWORK_EGL_DEVICE = index of the EGL device to use (range-checked).  auto tries the EGL
+// devices (taking the first that initialises), then Mesa's surfaceless platform, then the
+// default display.  Failures throw std::runtime_error naming what is missing and what to
+// install; a bad variable throws std::invalid_argument.
+class RenderContext {
+ public:
+  static std::shared_ptr<RenderContext> acquire();
+  ~RenderContext();
+  RenderContext(const RenderContext&) = delete;
+  RenderContext& operator=(const RenderContext&) = delete;
+
+  const RenderInfo& info() const { return info_; }
+  void make_current() const;  // throws if closed
+  bool closed() const { return display_ == nullptr; }
+  void close();               // idempotent
+
+ private:
+  RenderContext() = default;
+  void open();
+  void* display_ = nullptr;
+  void* context_ = nullptr;
+  RenderInfo info_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// scene
+
+// What a scene uses (DESIGN "scene.py").  Each feature off is neither computed on the CPU nor
+// compiled into the footprint shader (it becomes an absent #define).
+struct SceneFeatures {
+  bool split_map = false;    // seed "Fine bristle effect": alpha map on the tuft surface
+  bool dry_map = false;      // seed "Dry brush": grey map thresholded by moisture and pressure
+  bool grain = false;        // seed "Grain texture": paper height field thresholded when dry
+  bool soaked_tip = false;   // seed "Soaked brush": tip expanded, split map dilated, drains
+  bool color_ramp = false;   // seed "Ink loading": colour gradient along the spine
+  bool depletion = false;    // ink subtracted from the brush (off: constant ink level)
+
+  // thresholds (dimensionless, wetness and pressure in [0, 1])
+  double dry_onset = 0.6;       // wetness below which the dry map starts to open streaks
+  double dry_pressure = 0.5;    // how much pressure closes the streaks again
+  double grain_onset = 0.4;     // wetness below which paper grain shows
+  double grain_pressure = 0.5;  // how much pressure presses ink into the grain's valleys
+  double grain_period_mm = 1.5; // size of one tile of the grain height field on the paper
+  double soak_expand = 0.25;    // radial growth of the tip at full excess moisture (fraction)
+  double soak_shift = 0.35;     // split map scaled toward the tip at full excess moisture
+  double soak_drain_mm = 40.0;  // travel in contact over which excess moisture falls by 1/e
+  std::uint32_t seed = 1;       // procedural maps (split, dry, grain)
+  int mesh_rings = 6;           // rings per spine segment of the swept surface
+  int mesh_around = 48;         // vertices around one ring
+
+  void validate() const;  // std::invalid_argument naming the field
+};
+
+// Ink on one brush (seed "Ink loading").  Colours are straight (not premultiplied) RGBA in
+// [0, 1]; alpha is the ink's opacity.  load/capacity are per spine node, in mm^2 of paper covered
+// at full density; the brush's wetness is load / capacity.
+struct Ink {
+  std::vector<std::array<float, 4>> ramp{{0.0f, 0.0f, 0.0f, 1.0f}};  // root .. tip, >= 1 entry
+  Eigen::VectorXd load;      // (n+1) mm^2
+  Eigen::VectorXd capacity;  // (n+1) mm^2
+  double excess = 0.0;       // soaked tip: excess moisture in [0, 1]
+  double deposited = 0.0;    // mm^2 given to the paper so far (depletion scenes)
+
+  // full ink of `total_mm2`, split over the nodes in proportion to the section areas
+  static Ink full(const Brush& brush, double total_mm2);
+  double total() const { return load.sum(); }
+  void validate(int nodes) const;
+};
+
+// What one deposit did.
+struct DepositStats {
+  bool contact = false;        // some of the surface was below the paper
+  bool new_stroke = false;     // this deposit started a stroke
+  int substeps = 0;            // footprints swept between the last deposit and this one
+  double deposited = 0.0;      // mm^2 of full-density ink given to the paper (depletion only)
+  std::array<int, 4> rect{{0, 0, 0, 0}};  // px x0, y0, x1, y1 (exclusive) touched, y up
+};
+
+// ---------------------------------------------------------------------------------------------
+// paper
+
+class FootprintProgram;  // internal
+struct PaperTile;        // internal
+
+// A canvas of float ink: premultiplied RGBA, alpha = ink coverage.  Strokes go first into a
+// stroke layer where the densest deposit wins (a bristle passing twice does not double the ink);
+// the layer is composited over the paper (alpha blending of transparent colours) when the
+// stroke ends, and can be undone until then or after (one level).
+class Paper {
+ public:
+  Paper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
+        int tile_px = 0);  // tile_px 0: the largest the GL allows, at most 4096
+  ~Paper();
+  Paper(const Paper&) = delete;
+  Paper& operator=(const Paper&) = delete;
+
+  DepositStats deposit(Brush& brush, Ink* ink);  // ink may be null: black, constant level
+  void end_stroke();   // composite the stroke layer (also on lift, readback and save)
+  bool undo();         // remove the last stroke; false when there is none
+  void clear();
+
+  int width_px() const { return W_; }
+  int height_px() const { return H_; }
+  double px_per_mm() const { return ppm_; }
+  double width_mm() const { return width_mm_; }
+  double height_mm() const { return height_mm_; }
+  int tile_px() const { return T_; }
+  int tiles() const { return static_cast<int>(tiles_.size()); }
+  int samples() const { return samples_; }  // multisampling of the stroke layer
+  const SceneFeatures& scene() const { return scene_; }
+
+  // (H, W, 4) premultiplied RGBA float32, row 0 at the top of the paper
+  void read_rgba(float* out);
+  // (H, W) ink coverage float32, row 0 at the top
+  void read_ink(float* out);
+  // replace the paper by (H, W, 4) premultiplied RGBA, row 0 at the top (undo forgets)
+  void write_rgba(const float* in);
+
+  // replace a procedural map by an image: "split" or "dry" (rows along the spine root->tip,
+  // cols around the tuft) or "grain" (one period of the paper's height field); values in [0, 1]
+  void set_map(const std::string& which, const float* data, int rows, int cols);
+
+  // for the brush view: the paper tile textures and, while a stroke is pending, its layer
+  struct TileRef { unsigned paper, layer; int x0, y0, w, h; };
+  std::vector<TileRef> tile_textures();
+
+ private:
+  void flush_stroke();
+  void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
+  void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
+                 const std::function<void(PaperTile&, int, int, int, int)>& f);
+  void resolve_layer(const std::array<int, 4>& rect);
+  void read_layer_alpha(const std::array<int, 4>& rect, std::vector<float>& out);
+
+  std::shared_ptr<RenderContext> ctx_;
+  SceneFeatures scene_;
+  double width_mm_, height_mm_, ppm_;
+  int W_ = 0, H_ = 0, T_ = 0, samples_ = 1;
+  std::vector<std::unique_ptr<PaperTile>> tiles_;
+  std::unique_ptr<FootprintProgram> program_;
+  unsigned composite_program_ = 0, quad_vao_ = 0, quad_vbo_ = 0;
+  unsigned split_tex_ = 0, dry_tex_ = 0, grain_tex_ = 0, ramp_tex_ = 0;
+
+  // stroke state: the last deposit's vertices (for the sweep), the stroke's pixel rectangle
+  bool stroke_open_ = false, stroke_pending_ = false;
+  const Brush* last_brush_ = nullptr;
+  std::vector<float> last_vertices_;     // (V, 3) render vertices of the last deposit, mm
+  std::vector<float> last_centers_;      // (V, 3) their ring centres, mm
+  std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
+  // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom
+  std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
+  std::vector<float> undo_pixels_;
+  bool undo_available_ = false;
+};
+
+}  // namespace brushwork

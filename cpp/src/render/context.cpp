@@ -1,0 +1,271 @@
+// EGL context: a GPU through EGL device enumeration, else Mesa's surfaceless software renderer,
+// else the default display (the order of Open3D's EGLOffscreenContext).  libEGL is opened with
+// dlopen so that a machine without it can still import brushwork and use the brush.
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <dlfcn.h>
+
+#include <cstdlib>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+
+#include "brushwork/render.hpp"
+#include "gl_api.hpp"
+
+namespace brushwork {
+namespace gl {
+#define BRUSHWORK_GL_DEFINE(ret, name, args) ret(*name) args = nullptr;
+BRUSHWORK_GL_FUNCTIONS(BRUSHWORK_GL_DEFINE)
+#undef BRUSHWORK_GL_DEFINE
+
+const char* load(ProcGetter get) {
+#define BRUSHWORK_GL_LOAD(ret, name, args)                                        \
+  name = reinterpret_cast<ret(*) args>(get("gl" #name));                          \
+  if (name == nullptr) return "gl" #name;
+  BRUSHWORK_GL_FUNCTIONS(BRUSHWORK_GL_LOAD)
+#undef BRUSHWORK_GL_LOAD
+  return nullptr;
+}
+}  // namespace gl
+
+namespace {
+
+constexpr const char* kInstallHint =
+    "install EGL and Mesa's software OpenGL (Debian/Ubuntu: sudo apt install libegl1 "
+    "libegl-mesa0 libgl1-mesa-dri; with an NVIDIA GPU the driver's libEGL_nvidia is used)";
+
+// the EGL entry points, resolved from the dlopen'ed library
+struct Egl {
+  void* lib = nullptr;
+  PFNEGLGETPROCADDRESSPROC GetProcAddress = nullptr;
+  PFNEGLGETDISPLAYPROC GetDisplay = nullptr;
+  PFNEGLINITIALIZEPROC Initialize = nullptr;
+  PFNEGLTERMINATEPROC Terminate = nullptr;
+  PFNEGLBINDAPIPROC BindAPI = nullptr;
+  PFNEGLCHOOSECONFIGPROC ChooseConfig = nullptr;
+  PFNEGLCREATECONTEXTPROC CreateContext = nullptr;
+  PFNEGLDESTROYCONTEXTPROC DestroyContext = nullptr;
+  PFNEGLMAKECURRENTPROC MakeCurrent = nullptr;
+  PFNEGLQUERYSTRINGPROC QueryString = nullptr;
+  PFNEGLGETERRORPROC GetError = nullptr;
+  PFNEGLQUERYDEVICESEXTPROC QueryDevices = nullptr;          // EGL_EXT_device_enumeration
+  PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplay = nullptr;  // EGL_EXT_platform_base
+};
+
+Egl& egl() {
+  static Egl e;
+  static std::once_flag once;
+  std::call_once(once, [] {
+    e.lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
+    if (e.lib == nullptr) e.lib = dlopen("libEGL.so", RTLD_NOW | RTLD_LOCAL);
+    if (e.lib == nullptr) return;
+    auto sym = [](const char* name) { return dlsym(e.lib, name); };
+    e.GetProcAddress = reinterpret_cast<PFNEGLGETPROCADDRESSPROC>(sym("eglGetProcAddress"));
+    e.GetDisplay = reinterpret_cast<PFNEGLGETDISPLAYPROC>(sym("eglGetDisplay"));
+    e.Initialize = reinterpret_cast<PFNEGLINITIALIZEPROC>(sym("eglInitialize"));
+    e.Terminate = reinterpret_cast<PFNEGLTERMINATEPROC>(sym("eglTerminate"));
+    e.BindAPI = reinterpret_cast<PFNEGLBINDAPIPROC>(sym("eglBindAPI"));
+    e.ChooseConfig = reinterpret_cast<PFNEGLCHOOSECONFIGPROC>(sym("eglChooseConfig"));
+    e.CreateContext = reinterpret_cast<PFNEGLCREATECONTEXTPROC>(sym("eglCreateContext"));
+    e.DestroyContext = reinterpret_cast<PFNEGLDESTROYCONTEXTPROC>(sym("eglDestroyContext"));
+    e.MakeCurrent = reinterpret_cast<PFNEGLMAKECURRENTPROC>(sym("eglMakeCurrent"));
+    e.QueryString = reinterpret_cast<PFNEGLQUERYSTRINGPROC>(sym("eglQueryString"));
+    e.GetError = reinterpret_cast<PFNEGLGETERRORPROC>(sym("eglGetError"));
+    if (e.GetProcAddress != nullptr) {
+      e.QueryDevices =
+          reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(e.GetProcAddress("eglQueryDevicesEXT"));
+      e.GetPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+          e.GetProcAddress("eglGetPlatformDisplayEXT"));
+    }
+  });
+  return e;
+}
+
+std::string env(const char* name) {
+  const char* v = std::getenv(name);
+  return v == nullptr ? std::string() : std::string(v);
+}
+
+// an OpenGL 3.3 core context on `dpy`, or null (the display is terminated on failure)
+EGLContext try_context(Egl& e, EGLDisplay dpy, std::string& why) {
+  EGLint major = 0, minor = 0;
+  if (dpy == EGL_NO_DISPLAY || e.Initialize(dpy, &major, &minor) != EGL_TRUE) {
+    why = "eglInitialize failed";
+    return EGL_NO_CONTEXT;
+  }
+  if (e.BindAPI(EGL_OPENGL_API) != EGL_TRUE) {
+    why = "no desktop OpenGL API on this display";
+    e.Terminate(dpy);
+    return EGL_NO_CONTEXT;
+  }
+  // no surface at all: we render into framebuffer objects (EGL_KHR_surfaceless_context)
+  const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+  EGLConfig config = nullptr;
+  EGLint n = 0;
+  if (e.ChooseConfig(dpy, config_attribs, &config, 1, &n) != EGL_TRUE || n < 1) config = nullptr;
+  const EGLint ctx_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
+                                EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  EGLContext ctx = e.CreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attribs);
+  if (ctx == EGL_NO_CONTEXT) {
+    why = "no OpenGL 3.3 core context";
+    e.Terminate(dpy);
+    return EGL_NO_CONTEXT;
+  }
+  if (e.MakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx) != EGL_TRUE) {
+    why = "surfaceless eglMakeCurrent failed";
+    e.DestroyContext(dpy, ctx);
+    e.Terminate(dpy);
+    return EGL_NO_CONTEXT;
+  }
+  return ctx;
+}
+
+std::weak_ptr<RenderContext>& shared_slot() {
+  static std::weak_ptr<RenderContext> slot;
+  return slot;
+}
+
+}  // namespace
+
+std::shared_ptr<RenderContext> RenderContext::acquire() {
+  static std::mutex mu;
+  std::lock_guard<std::mutex> lock(mu);
+  auto ctx = shared_slot().lock();
+  if (ctx && !ctx->closed()) return ctx;
+  ctx = std::shared_ptr<RenderContext>(new RenderContext());
+  ctx->open();
+  shared_slot() = ctx;
+  return ctx;
+}
+
+void RenderContext::open() {
+  const std::string mode = env("BRUSHWORK_RENDER").empty() ? "auto" : env("BRUSHWORK_RENDER");
+  if (mode != "auto" && mode != "gpu" && mode != "software" && mode != "disable")
+    throw std::invalid_argument("BRUSHWORK_RENDER = '" + mode +
+                                "': expected auto, gpu, software or disable");
+  if (mode == "disable")
+    throw std::runtime_error("rendering is disabled (BRUSHWORK_RENDER=disable); unset it to render");
+
+  Egl& e = egl();
+  if (e.lib == nullptr)
+    throw std::runtime_error(std::string("no EGL library (libEGL.so.1 not found): ") + kInstallHint);
+  if (e.GetProcAddress == nullptr || e.Initialize == nullptr || e.CreateContext == nullptr)
+    throw std::runtime_error(std::string("libEGL.so.1 lacks core EGL 1.4 entry points: ") +
+                             kInstallHint);
+
+  // the device the user asked for, range-checked once the devices are known
+  const std::string dev_env = env("BRUSHWORK_EGL_DEVICE");
+  int wanted = -1;
+  if (!dev_env.empty()) {
+    char* end = nullptr;
+    const long v = std::strtol(dev_env.c_str(), &end, 10);
+    if (end == dev_env.c_str() || *end != '\0' || v < 0)
+      throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = '" + dev_env +
+                                  "': expected a device index 0, 1, ...");
+    wanted = static_cast<int>(v);
+  }
+
+  std::string tried;
+  EGLDisplay dpy = EGL_NO_DISPLAY;
+  EGLContext ctx = EGL_NO_CONTEXT;
+
+  // 1. a GPU through EGL device enumeration (skipped for software)
+  if (mode != "software" && e.QueryDevices != nullptr && e.GetPlatformDisplay != nullptr) {
+    EGLDeviceEXT devices[16];
+    EGLint count = 0;
+    if (e.QueryDevices(16, devices, &count) != EGL_TRUE) count = 0;
+    info_.device_count = count;
+    if (wanted >= count)
+      throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = " + std::to_string(wanted) +
+                                  " is out of range: " + std::to_string(count) +
+                                  " EGL device(s), indices 0.." + std::to_string(count - 1));
+    auto* query_device_string = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(
+        e.GetProcAddress("eglQueryDeviceStringEXT"));
+    for (int i = 0; i < count && ctx == EGL_NO_CONTEXT; ++i) {
+      if (wanted >= 0 && i != wanted) continue;
+      // Mesa lists its software device too; in auto mode leave it to the surfaceless path
+      if (query_device_string != nullptr && wanted < 0) {
+        const char* ext = query_device_string(devices[i], EGL_EXTENSIONS);
+        if (ext != nullptr && std::string(ext).find("EGL_MESA_device_software") != std::string::npos)
+          continue;
+      }
+      dpy = e.GetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+      std::string why;
+      ctx = try_context(e, dpy, why);
+      if (ctx != EGL_NO_CONTEXT) {
+        info_.backend = "egl-device";
+        info_.device_index = i;
+      } else {
+        tried += "device " + std::to_string(i) + ": " + why + "; ";
+      }
+    }
+  } else if (wanted >= 0 && mode != "software") {
+    throw std::invalid_argument("BRUSHWORK_EGL_DEVICE is set but this EGL has no device "
+                                "enumeration (EGL_EXT_device_enumeration)");
+  }
+  if (ctx == EGL_NO_CONTEXT && mode == "gpu")
+    throw std::runtime_error("BRUSHWORK_RENDER=gpu but no EGL GPU device initialised (" + tried +
+                             "); install the NVIDIA driver's EGL (libnvidia-egl / libEGL_nvidia) "
+                             "or use BRUSHWORK_RENDER=auto");
+
+  // 2. Mesa's surfaceless platform (llvmpipe when there is no GPU)
+  if (ctx == EGL_NO_CONTEXT && e.GetPlatformDisplay != nullptr) {
+    dpy = e.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+    std::string why;
+    ctx = try_context(e, dpy, why);
+    if (ctx != EGL_NO_CONTEXT) info_.backend = "mesa-surfaceless";
+    else tried += "mesa surfaceless: " + why + "; ";
+  }
+  // 3. the default display
+  if (ctx == EGL_NO_CONTEXT) {
+    dpy = e.GetDisplay(EGL_DEFAULT_DISPLAY);
+    std::string why;
+    ctx = try_context(e, dpy, why);
+    if (ctx != EGL_NO_CONTEXT) info_.backend = "default-display";
+    else tried += "default display: " + why + "; ";
+  }
+  if (ctx == EGL_NO_CONTEXT)
+    throw std::runtime_error("no usable EGL display with OpenGL 3.3 core (" + tried + "): " +
+                             kInstallHint);
+
+  display_ = dpy;
+  context_ = ctx;
+  if (const char* missing = gl::load(reinterpret_cast<gl::ProcGetter>(e.GetProcAddress))) {
+    close();
+    throw std::runtime_error(std::string("OpenGL entry point ") + missing +
+                             " is missing: " + kInstallHint);
+  }
+  auto str = [](GLenum name) {
+    const GLubyte* s = gl::GetString(name);
+    return s == nullptr ? std::string("?") : std::string(reinterpret_cast<const char*>(s));
+  };
+  info_.vendor = str(GL_VENDOR);
+  info_.renderer = str(GL_RENDERER);
+  info_.version = str(GL_VERSION);
+  GLint max_tex = 0;
+  gl::GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
+  info_.max_texture_size = max_tex;
+}
+
+void RenderContext::make_current() const {
+  if (closed()) throw std::runtime_error("the render context is closed");
+  Egl& e = egl();
+  if (e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) != EGL_TRUE)
+    throw std::runtime_error("eglMakeCurrent failed");
+}
+
+void RenderContext::close() {
+  if (display_ == nullptr) return;
+  Egl& e = egl();
+  e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  if (context_ != nullptr) e.DestroyContext(display_, context_);
+  e.Terminate(display_);
+  display_ = nullptr;
+  context_ = nullptr;
+}
+
+RenderContext::~RenderContext() { close(); }
+
+}  // namespace brushwork

@@ -1,0 +1,113 @@
+#include "maps.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace brushwork::maps {
+namespace {
+
+// splitmix64 finaliser: a well-mixed 64-bit hash of the inputs
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// uniform in [0, 1) from (seed, a, b, c)
+double hash01(std::uint32_t seed, std::int64_t a, std::int64_t b = 0, std::int64_t c = 0) {
+  std::uint64_t h = mix(seed);
+  h = mix(h ^ static_cast<std::uint64_t>(a));
+  h = mix(h ^ static_cast<std::uint64_t>(b) * 0x632BE59BD9B4E019ull);
+  h = mix(h ^ static_cast<std::uint64_t>(c) * 0x85157AF5ull);
+  return static_cast<double>(h >> 11) * (1.0 / 9007199254740992.0);
+}
+
+double smooth(double t) { return t * t * (3.0 - 2.0 * t); }
+
+// periodic 2-D value noise: lattice (px, py) cells, evaluated at (x, y) in [0, 1)^2
+double value_noise(std::uint32_t seed, int px, int py, double x, double y) {
+  const double fx = x * px, fy = y * py;
+  const int ix = static_cast<int>(std::floor(fx)), iy = static_cast<int>(std::floor(fy));
+  const double tx = smooth(fx - ix), ty = smooth(fy - iy);
+  auto at = [&](int i, int j) {
+    return hash01(seed, ((i % px) + px) % px, ((j % py) + py) % py);
+  };
+  const double a = at(ix, iy), b = at(ix + 1, iy), c = at(ix, iy + 1), d = at(ix + 1, iy + 1);
+  return (a * (1 - tx) + b * tx) * (1 - ty) + (c * (1 - tx) + d * tx) * ty;
+}
+
+// replace every value by its rank / (N - 1): thresholding at t then keeps the fraction 1 - t
+void equalise(std::vector<float>& v) {
+  std::vector<std::uint32_t> idx(v.size());
+  std::iota(idx.begin(), idx.end(), 0u);
+  std::stable_sort(idx.begin(), idx.end(), [&v](std::uint32_t a, std::uint32_t b) { return v[a] < v[b]; });
+  const double scale = v.size() > 1 ? 1.0 / static_cast<double>(v.size() - 1) : 0.0;
+  for (std::size_t r = 0; r < idx.size(); ++r) v[idx[r]] = static_cast<float>(r * scale);
+}
+
+}  // namespace
+
+std::vector<float> split_map(int rows, int cols, std::uint32_t seed) {
+  std::vector<float> a(static_cast<std::size_t>(rows) * cols, 1.0f);
+  // streaks: centre around the tuft, opening point along the spine, half-width at the tip
+  const int streaks = 16;
+  for (int g = 0; g < streaks; ++g) {
+    const double v0 = hash01(seed, 1, g);
+    const double s0 = 0.45 + 0.45 * hash01(seed, 2, g);
+    const double w_tip = 0.004 + 0.016 * hash01(seed, 3, g);
+    for (int r = 0; r < rows; ++r) {
+      const double s = (r + 0.5) / rows;
+      if (s <= s0) continue;
+      const double half = w_tip * std::pow((s - s0) / (1.0 - s0), 0.7);
+      for (int c = 0; c < cols; ++c) {
+        double dv = std::fabs((c + 0.5) / cols - v0);
+        dv = std::min(dv, 1.0 - dv);  // around the tuft wraps
+        // one texel of soft edge so the streak has no stair steps
+        const double alpha = std::clamp((dv - half) * cols + 0.5, 0.0, 1.0);
+        float& t = a[static_cast<std::size_t>(r) * cols + c];
+        t = std::min(t, static_cast<float>(alpha));
+      }
+    }
+  }
+  return a;
+}
+
+std::vector<float> dry_map(int rows, int cols, std::uint32_t seed) {
+  std::vector<float> d(static_cast<std::size_t>(rows) * cols);
+  for (int r = 0; r < rows; ++r) {
+    const double s = (r + 0.5) / rows;
+    for (int c = 0; c < cols; ++c) {
+      const double v = (c + 0.5) / cols;
+      // bristle clumps: fine variation around the tuft, slow along it (streaks follow hairs)
+      const double clumps = value_noise(seed, 96, 3, v, s);
+      const double bundles = value_noise(seed + 17u, 24, 2, v, s);
+      const double flecks = value_noise(seed + 31u, 192, 12, v, s);
+      d[static_cast<std::size_t>(r) * cols + c] =
+          static_cast<float>(0.55 * clumps + 0.3 * bundles + 0.15 * flecks);
+    }
+  }
+  equalise(d);
+  return d;
+}
+
+std::vector<float> grain_map(int size, std::uint32_t seed) {
+  std::vector<float> h(static_cast<std::size_t>(size) * size);
+  for (int r = 0; r < size; ++r) {
+    const double y = (r + 0.5) / size;
+    for (int c = 0; c < size; ++c) {
+      const double x = (c + 0.5) / size;
+      // fibres: anisotropic noise, plus two octaves of pits
+      const double fibres = value_noise(seed + 5u, 48, 12, x, y);
+      const double pits = value_noise(seed + 7u, 24, 24, x, y);
+      const double fine = value_noise(seed + 11u, 64, 64, x, y);
+      h[static_cast<std::size_t>(r) * size + c] =
+          static_cast<float>(0.45 * fibres + 0.35 * pits + 0.2 * fine);
+    }
+  }
+  equalise(h);
+  return h;
+}
+
+}  // namespace brushwork::maps

@@ -1,0 +1,780 @@
+// The paper: float ink in tiles, the footprint pass, strokes, undo and readback
+// (seed "Ink depositing", "System prototype": stroke undo, image saving and loading).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "brushwork/render.hpp"
+#include "gl_util.hpp"
+#include "maps.hpp"
+#include "render_mesh.hpp"
+#include "shaders.hpp"
+
+namespace brushwork {
+
+// one tile of the canvas: the paper and, allocated on first use, the stroke layer
+struct PaperTile {
+  int x0 = 0, y0 = 0, w = 0, h = 0;  // px, y up
+  GLuint paper_tex = 0, paper_fbo = 0;
+  // the stroke layer: multisampled colour and depth (drawn into), and a single-sample
+  // texture it resolves into (composited and read back)
+  GLuint layer_color_ms = 0, layer_depth_ms = 0, layer_fbo = 0;
+  GLuint layer_tex = 0, resolve_fbo = 0;
+};
+
+// the footprint program of one scene and its vertex buffers
+class FootprintProgram {
+ public:
+  GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
+  GLint u_t = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
+  GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
+  GLint u_dry_param = -1, u_grain_scale = -1;
+};
+
+namespace {
+
+constexpr int kMaxNodes = 33;  // u_wet / u_press array size (n_segments <= 16 needs 17)
+constexpr int kSamples = 4;    // multisampling of the stroke layer
+constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
+
+using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
+
+bool empty(const Rect& r) { return r[2] <= r[0] || r[3] <= r[1]; }
+Rect unite(const Rect& a, const Rect& b) {
+  if (empty(a)) return b;
+  if (empty(b)) return a;
+  return {std::min(a[0], b[0]), std::min(a[1], b[1]), std::max(a[2], b[2]), std::max(a[3], b[3])};
+}
+Rect intersect(const Rect& a, const Rect& b) {
+  return {std::max(a[0], b[0]), std::max(a[1], b[1]), std::min(a[2], b[2]), std::min(a[3], b[3])};
+}
+
+void check_positive(const char* name, double v) {
+  if (!std::isfinite(v) || v <= 0.0)
+    throw std::invalid_argument(std::string(name) + " = " + std::to_string(v) +
+                                ": expected a finite positive number");
+}
+
+}  // namespace
+
+void SceneFeatures::validate() const {
+  auto in01 = [](const char* name, double v, bool open_low) {
+    if (!std::isfinite(v) || v < 0.0 || v > 1.0 || (open_low && v == 0.0))
+      throw std::invalid_argument(std::string("scene.") + name + " = " + std::to_string(v) +
+                                  (open_low ? ": expected 0 < value <= 1" : ": expected 0..1"));
+  };
+  in01("dry_onset", dry_onset, true);
+  in01("grain_onset", grain_onset, true);
+  if (!std::isfinite(dry_pressure) || dry_pressure < 0 || dry_pressure > 10)
+    throw std::invalid_argument("scene.dry_pressure = " + std::to_string(dry_pressure) + ": expected 0..10");
+  if (!std::isfinite(grain_pressure) || grain_pressure < 0 || grain_pressure > 10)
+    throw std::invalid_argument("scene.grain_pressure = " + std::to_string(grain_pressure) + ": expected 0..10");
+  check_positive("scene.grain_period_mm", grain_period_mm);
+  check_positive("scene.soak_drain_mm", soak_drain_mm);
+  if (!std::isfinite(soak_expand) || soak_expand < 0 || soak_expand > 2)
+    throw std::invalid_argument("scene.soak_expand = " + std::to_string(soak_expand) + ": expected 0..2");
+  in01("soak_shift", soak_shift, false);
+  if (mesh_rings < 1 || mesh_rings > 64)
+    throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
+  if (mesh_around < 8 || mesh_around > 512)
+    throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+}
+
+Ink Ink::full(const Brush& brush, double total_mm2) {
+  check_positive("ink total", total_mm2);
+  const auto secs = brush.sections();
+  Ink ink;
+  ink.capacity.resize(static_cast<Eigen::Index>(secs.size()));
+  // capacity in proportion to the section area pi a c (the water a node can hold)
+  for (std::size_t i = 0; i < secs.size(); ++i)
+    ink.capacity[i] = std::max(0.5 * (secs[i].a_plus + secs[i].a_minus) * secs[i].c, 1e-9);
+  ink.capacity *= total_mm2 / ink.capacity.sum();
+  ink.load = ink.capacity;
+  ink.excess = 1.0;  // freshly dipped: soaked
+  return ink;
+}
+
+void Ink::validate(int nodes) const {
+  if (ramp.empty()) throw std::invalid_argument("ink.ramp: at least one colour");
+  for (const auto& c : ramp)
+    for (float v : c)
+      if (!std::isfinite(v) || v < 0.0f || v > 1.0f)
+        throw std::invalid_argument("ink.ramp: colour components must be in 0..1");
+  if (load.size() != nodes || capacity.size() != nodes)
+    throw std::invalid_argument("ink: load and capacity need " + std::to_string(nodes) +
+                                " entries (one per spine node), got " +
+                                std::to_string(load.size()) + " and " +
+                                std::to_string(capacity.size()));
+  for (int i = 0; i < nodes; ++i)
+    if (!std::isfinite(load[i]) || !std::isfinite(capacity[i]) || load[i] < 0 || capacity[i] <= 0)
+      throw std::invalid_argument("ink: load[" + std::to_string(i) + "] = " + std::to_string(load[i]) +
+                                  ", capacity = " + std::to_string(capacity[i]) +
+                                  ": expected load >= 0, capacity > 0");
+  if (!std::isfinite(excess) || excess < 0 || excess > 1)
+    throw std::invalid_argument("ink.excess = " + std::to_string(excess) + ": expected 0..1");
+}
+
+Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
+             int tile_px)
+    : scene_(scene), width_mm_(width_mm), height_mm_(height_mm), ppm_(px_per_mm) {
+  check_positive("width_mm", width_mm);
+  check_positive("height_mm", height_mm);
+  check_positive("px_per_mm", px_per_mm);
+  scene_.validate();
+  const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
+  if (w < 1 || h < 1 || w > 32768 || h > 32768)
+    throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
+                                " px: each side must be 1..32768 px");
+  W_ = static_cast<int>(w);
+  H_ = static_cast<int>(h);
+  if (tile_px != 0 && (tile_px < 16 || tile_px > 16384))
+    throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or 16..16384");
+
+  ctx_ = RenderContext::acquire();
+  ctx_->make_current();
+  GLint max_rb = 0, max_vp[2] = {0, 0};
+  gl::GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
+  gl::GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
+  const int limit = std::min({ctx_->info().max_texture_size, static_cast<int>(max_rb), max_vp[0], max_vp[1]});
+  T_ = std::min(tile_px > 0 ? tile_px : 4096, limit);
+  GLint max_samples = 1;
+  gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  samples_ = std::clamp(static_cast<int>(max_samples), 1, kSamples);
+
+  // tiles, each a float RGBA paper texture and its framebuffer, cleared to no ink
+  for (int y0 = 0; y0 < H_; y0 += T_)
+    for (int x0 = 0; x0 < W_; x0 += T_) {
+      auto t = std::make_unique<PaperTile>();
+      t->x0 = x0;
+      t->y0 = y0;
+      t->w = std::min(T_, W_ - x0);
+      t->h = std::min(T_, H_ - y0);
+      t->paper_tex = glu::texture(GL_RGBA32F, t->w, t->h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
+      gl::GenFramebuffers(1, &t->paper_fbo);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t->paper_fbo);
+      gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->paper_tex, 0);
+      glu::check_framebuffer("paper tile");
+      gl::Disable(GL_SCISSOR_TEST);
+      gl::ClearColor(0, 0, 0, 0);
+      gl::Clear(GL_COLOR_BUFFER_BIT);
+      tiles_.push_back(std::move(t));
+    }
+
+  // the footprint program with this scene's features compiled in, nothing else
+  std::vector<std::string> defines;
+  if (scene_.split_map) defines.push_back("USE_SPLIT");
+  if (scene_.dry_map) defines.push_back("USE_DRY");
+  if (scene_.grain) defines.push_back("USE_GRAIN");
+  if (scene_.soaked_tip) defines.push_back("USE_SOAK");
+  if (scene_.color_ramp) defines.push_back("USE_RAMP");
+  if (scene_.depletion) defines.push_back("USE_DEPLETION");
+  program_ = std::make_unique<FootprintProgram>();
+  FootprintProgram& fp = *program_;
+  fp.prog = glu::program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
+  const GLuint p = fp.prog;
+  fp.u_t = glu::uniform(p, "u_t");
+  fp.u_view = glu::uniform(p, "u_view");
+  fp.u_soak = glu::uniform(p, "u_soak");
+  fp.u_nodes = glu::uniform(p, "u_nodes");
+  fp.u_wet = glu::uniform(p, "u_wet");
+  fp.u_press = glu::uniform(p, "u_press");
+  fp.u_color = glu::uniform(p, "u_color");
+  fp.u_split = glu::uniform(p, "u_split");
+  fp.u_dry = glu::uniform(p, "u_dry");
+  fp.u_grain = glu::uniform(p, "u_grain");
+  fp.u_ramp = glu::uniform(p, "u_ramp");
+  fp.u_soak_shift = glu::uniform(p, "u_soak_shift");
+  fp.u_dry_param = glu::uniform(p, "u_dry_param");
+  fp.u_grain_scale = glu::uniform(p, "u_grain_scale");
+  gl::GenVertexArrays(1, &fp.vao);
+  gl::GenBuffers(1, &fp.vbo);
+  gl::GenBuffers(1, &fp.ibo);
+  gl::BindVertexArray(fp.vao);
+  gl::BindBuffer(GL_ARRAY_BUFFER, fp.vbo);
+  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, fp.ibo);
+  // interleaved: prev (3), cur (3), centre prev (3), centre cur (3), uv (2) floats
+  const GLsizei stride = 14 * sizeof(float);
+  const int sizes[5] = {3, 3, 3, 3, 2};
+  std::size_t off = 0;
+  for (GLuint a = 0; a < 5; ++a) {
+    gl::EnableVertexAttribArray(a);
+    gl::VertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(off));
+    off += sizes[a] * sizeof(float);
+  }
+  gl::BindVertexArray(0);
+
+  // composite: a full-tile triangle pair
+  composite_program_ = glu::program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
+  const float quad[12] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
+  gl::GenVertexArrays(1, &quad_vao_);
+  gl::GenBuffers(1, &quad_vbo_);
+  gl::BindVertexArray(quad_vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
+  gl::BufferData(GL_ARRAY_BUFFER, sizeof(quad), quad, GL_STATIC_DRAW);
+  gl::EnableVertexAttribArray(0);
+  gl::VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
+  gl::BindVertexArray(0);
+
+  // the maps this scene uses, and only those
+  if (scene_.split_map) {
+    const auto a = maps::split_map(kSplitRows, kSplitCols, scene_.seed);
+    split_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, a.data(), true, GL_REPEAT);
+  }
+  if (scene_.dry_map) {
+    const auto d = maps::dry_map(kSplitRows, kSplitCols, scene_.seed);
+    dry_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, d.data(), true, GL_REPEAT);
+  }
+  if (scene_.grain) {
+    const auto g = maps::grain_map(kGrainSize, scene_.seed);
+    grain_tex_ = glu::texture(GL_R32F, kGrainSize, kGrainSize, GL_RED, GL_FLOAT, g.data(), true, GL_REPEAT);
+  }
+  if (scene_.color_ramp)
+    ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
+  glu::check("paper set-up");
+}
+
+Paper::~Paper() {
+  if (!ctx_ || ctx_->closed()) return;  // the context took every GL object with it
+  try {
+    ctx_->make_current();
+  } catch (...) {
+    return;
+  }
+  for (auto& t : tiles_) {
+    gl::DeleteFramebuffers(1, &t->paper_fbo);
+    gl::DeleteTextures(1, &t->paper_tex);
+    if (t->layer_fbo) {
+      gl::DeleteFramebuffers(1, &t->layer_fbo);
+      gl::DeleteFramebuffers(1, &t->resolve_fbo);
+      gl::DeleteRenderbuffers(1, &t->layer_color_ms);
+      gl::DeleteRenderbuffers(1, &t->layer_depth_ms);
+      gl::DeleteTextures(1, &t->layer_tex);
+    }
+  }
+  if (program_) {
+    gl::DeleteProgram(program_->prog);
+    gl::DeleteVertexArrays(1, &program_->vao);
+    gl::DeleteBuffers(1, &program_->vbo);
+    gl::DeleteBuffers(1, &program_->ibo);
+  }
+  gl::DeleteProgram(composite_program_);
+  gl::DeleteVertexArrays(1, &quad_vao_);
+  gl::DeleteBuffers(1, &quad_vbo_);
+  for (GLuint tex : {split_tex_, dry_tex_, grain_tex_, ramp_tex_})
+    if (tex) gl::DeleteTextures(1, &tex);
+}
+
+void Paper::set_map(const std::string& which, const float* data, int rows, int cols) {
+  if (rows < 2 || cols < 2 || rows > 8192 || cols > 8192)
+    throw std::invalid_argument(which + " map of " + std::to_string(rows) + " x " +
+                                std::to_string(cols) + ": each side must be 2..8192");
+  for (long i = 0; i < static_cast<long>(rows) * cols; ++i)
+    if (!std::isfinite(data[i]) || data[i] < 0.0f || data[i] > 1.0f)
+      throw std::invalid_argument(which + " map: values must be in 0..1");
+  GLuint* tex = nullptr;
+  bool on = false;
+  if (which == "split") tex = &split_tex_, on = scene_.split_map;
+  else if (which == "dry") tex = &dry_tex_, on = scene_.dry_map;
+  else if (which == "grain") tex = &grain_tex_, on = scene_.grain;
+  else throw std::invalid_argument("map '" + which + "': expected split, dry or grain");
+  if (!on)
+    throw std::invalid_argument("the " + which + " map is not part of this paper's scene; "
+                                "create the paper with it switched on");
+  ctx_->make_current();
+  if (*tex) gl::DeleteTextures(1, tex);
+  *tex = glu::texture(GL_R32F, cols, rows, GL_RED, GL_FLOAT, data, true, GL_REPEAT);
+}
+
+void Paper::for_tiles(const Rect& rect, bool stroke_layer,
+                      const std::function<void(PaperTile&, int, int, int, int)>& f) {
+  for (auto& tp : tiles_) {
+    PaperTile& t = *tp;
+    const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
+    if (empty(r)) continue;
+    if (stroke_layer && t.layer_fbo == 0) {
+      // first use of this tile's stroke layer: multisampled colour (premultiplied RGBA) and
+      // depth (1 - alpha), so that footprints thinner than a pixel still leave faint,
+      // unbroken ink; and the texture it resolves into
+      gl::GenRenderbuffers(1, &t.layer_color_ms);
+      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
+      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
+      gl::GenRenderbuffers(1, &t.layer_depth_ms);
+      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
+      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      gl::GenFramebuffers(1, &t.layer_fbo);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
+      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
+      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
+      glu::check_framebuffer("stroke layer tile");
+      gl::Disable(GL_SCISSOR_TEST);
+      gl::DepthMask(GL_TRUE);
+      gl::ClearColor(0, 0, 0, 0);
+      gl::ClearDepth(1.0);
+      gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
+      gl::GenFramebuffers(1, &t.resolve_fbo);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+      gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
+      glu::check_framebuffer("stroke layer resolve");
+      gl::Clear(GL_COLOR_BUFFER_BIT);
+      glu::check("stroke layer allocation");
+    }
+    f(t, r[0] - t.x0, r[1] - t.y0, r[2] - r[0], r[3] - r[1]);
+  }
+}
+
+void Paper::resolve_layer(const Rect& rect) {
+  // average the samples of the layer into its texture, over `rect` only
+  gl::Disable(GL_SCISSOR_TEST);
+  for (auto& tp : tiles_) {
+    PaperTile& t = *tp;
+    const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
+    if (empty(r) || t.layer_fbo == 0) continue;
+    const int x0 = r[0] - t.x0, y0 = r[1] - t.y0, x1 = r[2] - t.x0, y1 = r[3] - t.y0;
+    gl::BindFramebuffer(GL_READ_FRAMEBUFFER, t.layer_fbo);
+    gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, t.resolve_fbo);
+    gl::BlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  }
+  gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Paper::read_layer_alpha(const Rect& rect, std::vector<float>& out) {
+  resolve_layer(rect);
+  const int rw = rect[2] - rect[0], rh = rect[3] - rect[1];
+  out.assign(static_cast<std::size_t>(rw) * rh, 0.0f);
+  std::vector<float> buf;
+  for (auto& tp : tiles_) {
+    PaperTile& t = *tp;
+    const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
+    if (empty(r) || t.layer_fbo == 0) continue;
+    const int w = r[2] - r[0], h = r[3] - r[1];
+    buf.resize(static_cast<std::size_t>(4) * w * h);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl::ReadPixels(r[0] - t.x0, r[1] - t.y0, w, h, GL_RGBA, GL_FLOAT, buf.data());
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        out[static_cast<std::size_t>(y + r[1] - rect[1]) * rw + (x + r[0] - rect[0])] =
+            buf[4 * (static_cast<std::size_t>(y) * w + x) + 3];
+  }
+}
+
+DepositStats Paper::deposit(Brush& brush, Ink* ink) {
+  ctx_->make_current();
+  const int nodes = brush.model().n_segments + 1;
+  if (nodes > kMaxNodes)
+    throw std::invalid_argument("the renderer supports at most " + std::to_string(kMaxNodes - 1) + " spine segments");
+  if (ink != nullptr) ink->validate(nodes);
+  if (scene_.depletion && ink == nullptr)
+    throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
+  DepositStats stats;
+
+  MeshOptions opt;
+  opt.rings_per_segment = scene_.mesh_rings;
+  opt.around = scene_.mesh_around;
+  const RenderMesh cur = build_render_mesh(brush, opt);
+  const int V = cur.vertices();
+  const double soak = (scene_.soaked_tip && ink != nullptr) ? scene_.soak_expand * ink->excess : 0.0;
+
+  // the surface as the shader will place it (the soaked tip swells), for contact and bounds
+  auto placed = [&](const std::vector<float>& pos, const std::vector<float>& ctr, int v, int d) {
+    const double s = cur.uv[2 * v];
+    const double t = std::clamp((s - 0.5) / 0.5, 0.0, 1.0);
+    const double grow = 1.0 + soak * t * t * (3.0 - 2.0 * t);
+    return ctr[3 * v + d] + (pos[3 * v + d] - ctr[3 * v + d]) * grow;
+  };
+  double zmin = 1e300;
+  for (int v = 0; v < V; ++v) zmin = std::min(zmin, placed(cur.position, cur.center, v, 2));
+  stats.contact = zmin < 0.0;
+  if (!stats.contact) {
+    // the brush left the paper: the stroke ends here
+    end_stroke();
+    return stats;
+  }
+
+  // continue the stroke from the last deposit, or start one
+  const bool continues = stroke_open_ && last_brush_ == &brush &&
+                         last_vertices_.size() == cur.position.size();
+  if (!continues) {
+    flush_stroke();
+    stats.new_stroke = true;
+    stroke_rect_ = {0, 0, 0, 0};
+    last_vertices_ = cur.position;
+    last_centers_ = cur.center;
+  }
+  const std::vector<float>& prev = last_vertices_;
+  const std::vector<float>& prev_c = last_centers_;
+
+  // the triangles that can reach the paper at some point of the sweep (half a pixel of
+  // antialiasing above it included), their pixel bounds and the largest travel
+  const double zcut = 1.0 / ppm_;
+  std::vector<std::uint32_t> faces;
+  faces.reserve(cur.faces.size());
+  std::vector<char> used(V, 0);
+  for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
+    double lo = 1e300;
+    for (int e = 0; e < 3; ++e) {
+      const int v = static_cast<int>(cur.faces[f + e]);
+      lo = std::min({lo, placed(cur.position, cur.center, v, 2), placed(prev, prev_c, v, 2)});
+    }
+    if (lo < zcut) {
+      for (int e = 0; e < 3; ++e) {
+        faces.push_back(cur.faces[f + e]);
+        used[cur.faces[f + e]] = 1;
+      }
+    }
+  }
+  double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;  // mm, whole sweep
+  double cx0 = 1e300, cy0 = 1e300, cx1 = -1e300, cy1 = -1e300;  // mm, this frame's part below
+  double travel = 0.0;                                           // mm
+  for (int v = 0; v < V; ++v) {
+    if (!used[v]) continue;
+    const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
+    const double px = placed(prev, prev_c, v, 0), py = placed(prev, prev_c, v, 1);
+    bx0 = std::min({bx0, x, px});
+    by0 = std::min({by0, y, py});
+    bx1 = std::max({bx1, x, px});
+    by1 = std::max({by1, y, py});
+    if (placed(cur.position, cur.center, v, 2) < zcut) {
+      cx0 = std::min(cx0, x);
+      cy0 = std::min(cy0, y);
+      cx1 = std::max(cx1, x);
+      cy1 = std::max(cy1, y);
+    }
+    travel = std::max(travel, std::hypot(x - px, y - py));
+  }
+  const Rect rect = intersect({static_cast<int>(std::floor(bx0 * ppm_)) - 2,
+                               static_cast<int>(std::floor(by0 * ppm_)) - 2,
+                               static_cast<int>(std::ceil(bx1 * ppm_)) + 2,
+                               static_cast<int>(std::ceil(by1 * ppm_)) + 2},
+                              {0, 0, W_, H_});
+  stats.rect = empty(rect) ? Rect{0, 0, 0, 0} : rect;
+
+  // sub-steps of the sweep: close enough that consecutive footprints overlap and the
+  // scallops between them stay under a quarter pixel (a disc of radius r spaced d apart
+  // leaves scallops d^2 / 8r deep)
+  const double r_px = 0.5 * std::max(0.0, std::min(cx1 - cx0, cy1 - cy0)) * ppm_;
+  const double spacing = std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
+  const int K = continues ? std::clamp(static_cast<int>(std::ceil(travel * ppm_ / spacing)), 1, 4096) : 1;
+  stats.substeps = K;
+
+  if (!empty(rect) && !faces.empty()) {
+    // vertex data: prev, cur, centre prev, centre cur, uv
+    std::vector<float> vb(static_cast<std::size_t>(14) * V);
+    for (int v = 0; v < V; ++v) {
+      float* o = &vb[14 * static_cast<std::size_t>(v)];
+      for (int d = 0; d < 3; ++d) {
+        o[d] = prev[3 * v + d];
+        o[3 + d] = cur.position[3 * v + d];
+        o[6 + d] = prev_c[3 * v + d];
+        o[9 + d] = cur.center[3 * v + d];
+      }
+      o[12] = cur.uv[2 * v];
+      o[13] = cur.uv[2 * v + 1];
+    }
+    FootprintProgram& fp = *program_;
+    gl::UseProgram(fp.prog);
+    gl::BindVertexArray(fp.vao);
+    gl::BindBuffer(GL_ARRAY_BUFFER, fp.vbo);
+    gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data(), GL_STREAM_DRAW);
+    gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, fp.ibo);
+    gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(faces.size() * sizeof(std::uint32_t)),
+                   faces.data(), GL_STREAM_DRAW);
+
+    // per-node wetness (the brush's) and pressure (from the sections)
+    float wet[kMaxNodes] = {0}, press[kMaxNodes] = {0};
+    const std::vector<float> pr = node_pressure(brush);
+    for (int i = 0; i < nodes; ++i) {
+      wet[i] = static_cast<float>(std::clamp(brush.wetness[i], 0.0, 1.0));
+      press[i] = pr[i];
+    }
+    const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
+    gl::Uniform1i(fp.u_nodes, nodes);
+    gl::Uniform1fv(fp.u_wet, nodes, wet);
+    gl::Uniform1fv(fp.u_press, nodes, press);
+    gl::Uniform4f(fp.u_color, color[0], color[1], color[2], color[3]);
+    gl::Uniform1f(fp.u_soak, static_cast<float>(soak));
+    gl::Uniform1f(fp.u_soak_shift, static_cast<float>(
+        (scene_.soaked_tip && ink != nullptr) ? scene_.soak_shift * ink->excess : 0.0));
+    gl::Uniform4f(fp.u_dry_param, static_cast<float>(scene_.dry_onset), static_cast<float>(scene_.dry_pressure),
+                  static_cast<float>(scene_.grain_onset), static_cast<float>(scene_.grain_pressure));
+    gl::Uniform1f(fp.u_grain_scale, static_cast<float>(1.0 / scene_.grain_period_mm));
+    const GLuint units[4] = {split_tex_, dry_tex_, grain_tex_, ramp_tex_};
+    const GLint locs[4] = {fp.u_split, fp.u_dry, fp.u_grain, fp.u_ramp};
+    if (scene_.color_ramp && ink != nullptr) {
+      gl::BindTexture(GL_TEXTURE_2D, ramp_tex_);
+      gl::TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, static_cast<GLsizei>(ink->ramp.size()), 1, 0,
+                     GL_RGBA, GL_FLOAT, ink->ramp.data());
+    }
+    for (int u = 0; u < 4; ++u) {
+      if (locs[u] < 0 || units[u] == 0) continue;
+      gl::ActiveTexture(GL_TEXTURE0 + u);
+      gl::BindTexture(GL_TEXTURE_2D, units[u]);
+      gl::Uniform1i(locs[u], u);
+    }
+    gl::ActiveTexture(GL_TEXTURE0);
+
+    std::vector<float> before, after;
+    if (scene_.depletion) read_layer_alpha(rect, before);
+
+    // draw the sweep into the stroke layer: downward-facing triangles only (seen from below,
+    // a face whose outward normal points down is clockwise on the paper), densest wins
+    gl::Enable(GL_DEPTH_TEST);
+    gl::DepthFunc(GL_LESS);
+    gl::DepthMask(GL_TRUE);
+    gl::Disable(GL_BLEND);
+    gl::Enable(GL_CULL_FACE);
+    gl::FrontFace(GL_CCW);
+    gl::CullFace(GL_FRONT);
+    gl::Enable(GL_SCISSOR_TEST);
+    for_tiles(rect, true, [&](PaperTile& t, int x, int y, int w, int h) {
+      gl::UseProgram(fp.prog);
+      gl::BindVertexArray(fp.vao);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
+      gl::Viewport(0, 0, t.w, t.h);
+      gl::Scissor(x, y, w, h);
+      gl::Uniform4f(fp.u_view, static_cast<float>(t.x0 / ppm_), static_cast<float>(t.y0 / ppm_),
+                    static_cast<float>(2.0 * ppm_ / t.w), static_cast<float>(2.0 * ppm_ / t.h));
+      for (int k = 1; k <= K; ++k) {
+        gl::Uniform1f(fp.u_t, static_cast<float>(k) / K);
+        gl::DrawElements(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr);
+      }
+    });
+    gl::Disable(GL_SCISSOR_TEST);
+    gl::Disable(GL_CULL_FACE);
+    gl::Disable(GL_DEPTH_TEST);
+    gl::BindVertexArray(0);
+    glu::check("footprint pass");
+
+    // depletion: what the layer gained is what the brush lost (seed: "automatically subtract
+    // the ink values from the brush"), taken from the pressed nodes that still hold ink
+    if (scene_.depletion) {
+      read_layer_alpha(rect, after);
+      double gained = 0.0;
+      for (std::size_t i = 0; i < after.size(); ++i) gained += static_cast<double>(after[i]) - before[i];
+      gained /= ppm_ * ppm_;  // px -> mm^2
+      stats.deposited = gained;
+      double remaining = std::min(gained, ink->load.sum());
+      for (int pass = 0; pass < 3 && remaining > 1e-15; ++pass) {
+        double wsum = 0.0;
+        Eigen::VectorXd wgt(nodes);
+        for (int i = 0; i < nodes; ++i) wsum += (wgt[i] = (pass == 0 ? press[i] : 1.0) * ink->load[i]);
+        if (wsum <= 0.0) continue;
+        double taken = 0.0;
+        for (int i = 0; i < nodes; ++i) {
+          const double take = std::min(ink->load[i], remaining * wgt[i] / wsum);
+          ink->load[i] -= take;
+          taken += take;
+        }
+        remaining -= taken;
+      }
+      ink->deposited += gained;
+      for (int i = 0; i < nodes; ++i) brush.wetness[i] = std::clamp(ink->load[i] / ink->capacity[i], 0.0, 1.0);
+    }
+    stroke_rect_ = unite(stroke_rect_, rect);
+    stroke_pending_ = true;
+  }
+  // the soaked tip drains with the distance it travels in contact
+  if (scene_.soaked_tip && ink != nullptr) ink->excess *= std::exp(-travel / scene_.soak_drain_mm);
+
+  stroke_open_ = true;
+  last_brush_ = &brush;
+  last_vertices_ = cur.position;
+  last_centers_ = cur.center;
+  return stats;
+}
+
+void Paper::end_stroke() {
+  if (!ctx_->closed()) {
+    ctx_->make_current();
+    flush_stroke();
+  }
+  stroke_open_ = false;
+  last_brush_ = nullptr;
+}
+
+void Paper::flush_stroke() {
+  if (!stroke_pending_) return;
+  const Rect rect = stroke_rect_;
+  // keep what the stroke covers, for undo (premultiplied RGBA, row 0 at the bottom)
+  const int rw = rect[2] - rect[0], rh = rect[3] - rect[1];
+  undo_pixels_.assign(static_cast<std::size_t>(4) * rw * rh, 0.0f);
+  std::vector<float> buf;
+  for_tiles(rect, false, [&](PaperTile& t, int x, int y, int w, int h) {
+    buf.resize(static_cast<std::size_t>(4) * w * h);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, t.paper_fbo);
+    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl::ReadPixels(x, y, w, h, GL_RGBA, GL_FLOAT, buf.data());
+    for (int j = 0; j < h; ++j)
+      std::copy_n(&buf[4 * static_cast<std::size_t>(j) * w], 4 * w,
+                  &undo_pixels_[4 * (static_cast<std::size_t>(j + t.y0 + y - rect[1]) * rw + (t.x0 + x - rect[0]))]);
+  });
+  undo_rect_ = rect;
+  undo_available_ = true;
+
+  // composite the layer over the paper (premultiplied over), then clear the layer
+  resolve_layer(rect);
+  gl::UseProgram(composite_program_);
+  gl::BindVertexArray(quad_vao_);
+  gl::Enable(GL_SCISSOR_TEST);
+  for_tiles(rect, true, [&](PaperTile& t, int x, int y, int w, int h) {
+    gl::BindFramebuffer(GL_FRAMEBUFFER, t.paper_fbo);
+    gl::Viewport(0, 0, t.w, t.h);
+    gl::Scissor(x, y, w, h);
+    gl::Enable(GL_BLEND);
+    gl::BlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    gl::ActiveTexture(GL_TEXTURE0);
+    gl::BindTexture(GL_TEXTURE_2D, t.layer_tex);
+    gl::Uniform1i(glu::uniform(composite_program_, "u_layer"), 0);
+    gl::DrawArrays(GL_TRIANGLES, 0, 6);
+    gl::Disable(GL_BLEND);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
+    gl::DepthMask(GL_TRUE);
+    gl::ClearColor(0, 0, 0, 0);
+    gl::ClearDepth(1.0);
+    gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  });
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::BindVertexArray(0);
+  glu::check("stroke composite");
+  stroke_pending_ = false;
+  stroke_rect_ = {0, 0, 0, 0};
+}
+
+bool Paper::undo() {
+  ctx_->make_current();
+  if (stroke_pending_) {
+    // the stroke in progress (or not yet composited): drop the layer
+    gl::Enable(GL_SCISSOR_TEST);
+    for_tiles(stroke_rect_, true, [&](PaperTile& t, int x, int y, int w, int h) {
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
+      gl::Scissor(x, y, w, h);
+      gl::DepthMask(GL_TRUE);
+      gl::ClearColor(0, 0, 0, 0);
+      gl::ClearDepth(1.0);
+      gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    });
+    gl::Disable(GL_SCISSOR_TEST);
+    stroke_pending_ = false;
+    stroke_open_ = false;
+    last_brush_ = nullptr;
+    stroke_rect_ = {0, 0, 0, 0};
+    return true;
+  }
+  if (!undo_available_) return false;
+  const Rect rect = undo_rect_;
+  const int rw = rect[2] - rect[0];
+  std::vector<float> buf;
+  for_tiles(rect, false, [&](PaperTile& t, int x, int y, int w, int h) {
+    buf.resize(static_cast<std::size_t>(4) * w * h);
+    for (int j = 0; j < h; ++j)
+      std::copy_n(&undo_pixels_[4 * (static_cast<std::size_t>(j + t.y0 + y - rect[1]) * rw + (t.x0 + x - rect[0]))],
+                  4 * w, &buf[4 * static_cast<std::size_t>(j) * w]);
+    gl::BindTexture(GL_TEXTURE_2D, t.paper_tex);
+    gl::PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl::TexSubImage2D(GL_TEXTURE_2D, 0, x, y, w, h, GL_RGBA, GL_FLOAT, buf.data());
+  });
+  undo_available_ = false;
+  undo_pixels_.clear();
+  glu::check("undo");
+  return true;
+}
+
+void Paper::clear() {
+  ctx_->make_current();
+  for (auto& tp : tiles_) {
+    gl::BindFramebuffer(GL_FRAMEBUFFER, tp->paper_fbo);
+    gl::ClearColor(0, 0, 0, 0);
+    gl::Clear(GL_COLOR_BUFFER_BIT);
+    if (tp->layer_fbo) {
+      gl::BindFramebuffer(GL_FRAMEBUFFER, tp->layer_fbo);
+      gl::DepthMask(GL_TRUE);
+      gl::ClearDepth(1.0);
+      gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    }
+  }
+  stroke_open_ = stroke_pending_ = undo_available_ = false;
+  last_brush_ = nullptr;
+  stroke_rect_ = {0, 0, 0, 0};
+  undo_pixels_.clear();
+}
+
+void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>& f) {
+  ctx_->make_current();
+  if (stroke_pending_) resolve_layer(stroke_rect_);
+  std::vector<float> buf, layer;
+  for (auto& tp : tiles_) {
+    const PaperTile& t = *tp;
+    buf.resize(static_cast<std::size_t>(4) * t.w * t.h);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, t.paper_fbo);
+    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
+    gl::ReadPixels(0, 0, t.w, t.h, GL_RGBA, GL_FLOAT, buf.data());
+    const Rect r = intersect(stroke_rect_, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
+    if (stroke_pending_ && t.layer_fbo && !empty(r)) {
+      // a stroke still in the layer shows as if composited (premultiplied over)
+      const int x = r[0] - t.x0, y = r[1] - t.y0, w = r[2] - r[0], h = r[3] - r[1];
+      layer.resize(static_cast<std::size_t>(4) * w * h);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+      gl::ReadPixels(x, y, w, h, GL_RGBA, GL_FLOAT, layer.data());
+      for (int j = 0; j < h; ++j)
+        for (int i = 0; i < w; ++i) {
+          const float* L = &layer[4 * (static_cast<std::size_t>(j) * w + i)];
+          float* P = &buf[4 * (static_cast<std::size_t>(j + y) * t.w + (i + x))];
+          for (int c = 0; c < 4; ++c) P[c] = L[c] + P[c] * (1.0f - L[3]);
+        }
+    }
+    f(t, buf.data());
+  }
+  glu::check("paper readback");
+}
+
+void Paper::read_rgba(float* out) {
+  // GL rows run bottom-up; numpy's row 0 is the top of the paper: flip once, here
+  read_tiles([&](const PaperTile& t, const float* buf) {
+    for (int j = 0; j < t.h; ++j)
+      std::copy_n(buf + 4 * static_cast<std::size_t>(j) * t.w, 4 * t.w,
+                  out + 4 * (static_cast<std::size_t>(H_ - 1 - (t.y0 + j)) * W_ + t.x0));
+  });
+}
+
+void Paper::read_ink(float* out) {
+  read_tiles([&](const PaperTile& t, const float* buf) {
+    for (int j = 0; j < t.h; ++j) {
+      float* row = out + static_cast<std::size_t>(H_ - 1 - (t.y0 + j)) * W_ + t.x0;
+      const float* src = buf + 4 * static_cast<std::size_t>(j) * t.w;
+      for (int i = 0; i < t.w; ++i) row[i] = src[4 * i + 3];
+    }
+  });
+}
+
+void Paper::write_rgba(const float* in) {
+  ctx_->make_current();
+  for (int i = 0; i < 4 * W_ * H_; ++i)
+    if (!std::isfinite(in[i]) || in[i] < 0.0f || in[i] > 1.0f)
+      throw std::invalid_argument("paper image: values must be finite and in 0..1");
+  clear();
+  std::vector<float> buf;
+  for (auto& tp : tiles_) {
+    const PaperTile& t = *tp;
+    buf.resize(static_cast<std::size_t>(4) * t.w * t.h);
+    for (int j = 0; j < t.h; ++j)
+      std::copy_n(in + 4 * (static_cast<std::size_t>(H_ - 1 - (t.y0 + j)) * W_ + t.x0), 4 * t.w,
+                  &buf[4 * static_cast<std::size_t>(j) * t.w]);
+    gl::BindTexture(GL_TEXTURE_2D, t.paper_tex);
+    gl::PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    gl::TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, t.w, t.h, GL_RGBA, GL_FLOAT, buf.data());
+  }
+  glu::check("paper upload");
+}
+
+std::vector<Paper::TileRef> Paper::tile_textures() {
+  ctx_->make_current();
+  if (stroke_pending_) resolve_layer(stroke_rect_);
+  std::vector<TileRef> out;
+  for (auto& tp : tiles_)
+    out.push_back({tp->paper_tex, stroke_pending_ ? tp->layer_tex : 0u, tp->x0, tp->y0, tp->w, tp->h});
+  return out;
+}
+
+}  // namespace brushwork

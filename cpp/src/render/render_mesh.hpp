@@ -1,0 +1,28 @@
+// The brush's swept surface re-laid for the GPU: rings of `around + 1` vertices (the first
+// column repeated at around = 1 so that textures do not wrap backwards across the seam), the
+// root cap and the tip apex, with the core's outward CCW triangles re-indexed.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "brushwork/brush.hpp"
+
+namespace brushwork {
+
+struct RenderMesh {
+  std::vector<float> position;  // (V, 3) mm
+  std::vector<float> center;    // (V, 3) mm, centre of the vertex's ring (the spine point)
+  std::vector<float> uv;        // (V, 2): along the spine (node i at i / n; tip apex 1), around
+  std::vector<float> normal;    // (V, 3) unit outward vertex normals
+  std::vector<std::uint32_t> faces;  // (F, 3) outward counter-clockwise
+  int vertices() const { return static_cast<int>(position.size() / 3); }
+};
+
+RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt);
+
+// pressure per spine node in [0, 1]: how deep the lowest point of Omega_i lies below the paper,
+// in units of its minor radius c_i (seed "Dry brush": the threshold varies with node pressure)
+std::vector<float> node_pressure(const Brush& brush);
+
+}  // namespace brushwork

@@ -1,0 +1,125 @@
+// GLSL 330 core sources.  Feature switches are #defines inserted by glu::program: a scene that
+// does not use a feature does not compile its code (DESIGN "scene.py").
+#pragma once
+
+namespace brushwork::shaders {
+
+// Footprint pass (seed "Ink depositing"): the brush surface swept between the last deposit
+// (u_t = 0) and this one (u_t = 1), seen orthographically from below; only the part under the
+// paper (z < 0) leaves ink.  Attributes: last and current positions and ring centres (mm), uv =
+// (along the spine, 0 root .. 1 tip; around the tuft, 0..1).
+inline constexpr const char* kFootprintVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_prev;
+layout(location = 1) in vec3 a_cur;
+layout(location = 2) in vec3 a_center_prev;
+layout(location = 3) in vec3 a_center_cur;
+layout(location = 4) in vec2 a_uv;
+uniform float u_t;     // sweep parameter
+uniform vec4 u_view;   // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
+uniform float u_soak;  // soak_expand * excess moisture
+out vec2 v_uv;
+out float v_z;
+out vec2 v_mm;
+void main() {
+  vec3 p = mix(a_prev, a_cur, u_t);
+#ifdef USE_SOAK
+  // seed "Soaked brush": the tip swells with excess moisture, more toward the tip
+  vec3 c = mix(a_center_prev, a_center_cur, u_t);
+  p = c + (p - c) * (1.0 + u_soak * smoothstep(0.5, 1.0, a_uv.x));
+#endif
+  v_uv = a_uv;
+  v_z = p.z;
+  v_mm = p.xy;
+  gl_Position = vec4((p.xy - u_view.xy) * u_view.zw - 1.0, 0.0, 1.0);
+}
+)";
+
+inline constexpr const char* kFootprintFragment = R"(#version 330 core
+in vec2 v_uv;
+in float v_z;
+in vec2 v_mm;
+uniform int u_nodes;          // spine nodes n + 1
+uniform float u_wet[33];      // wetness per node, root first, [0, 1]
+uniform float u_press[33];    // pressure per node, [0, 1]
+uniform vec4 u_color;         // straight RGBA of the ink (no ramp)
+uniform sampler2D u_split;    // (around, along) alpha
+uniform sampler2D u_dry;      // (around, along) grey
+uniform sampler2D u_grain;    // paper height field, repeats every grain period
+uniform sampler2D u_ramp;     // (along, -) straight RGBA
+uniform float u_soak_shift;   // soak_shift * excess moisture
+uniform vec4 u_dry_param;     // dry onset, dry pressure, grain onset, grain pressure
+uniform float u_grain_scale;  // 1 / grain period, 1/mm
+out vec4 o_color;
+
+// a per-node quantity interpolated at s in [0, 1] along the spine (node i at s = i / n)
+float along_wet(float s) {
+  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
+  int i = min(int(x), u_nodes - 2);
+  return mix(u_wet[i], u_wet[i + 1], x - float(i));
+}
+float along_press(float s) {
+  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
+  int i = min(int(x), u_nodes - 2);
+  return mix(u_press[i], u_press[i + 1], x - float(i));
+}
+
+void main() {
+  // coverage of the pixel by the part below the paper: the footprint's edge is where the
+  // surface crosses z = 0; half a pixel of ramp on each side keeps it free of stair steps
+  float a = clamp(0.5 - v_z / max(fwidth(v_z), 1e-7), 0.0, 1.0);
+  if (a <= 0.0) discard;
+  float s = v_uv.x;
+#ifdef USE_RAMP
+  // seed "Ink loading": the colour gradient mapped along the spine
+  vec4 ink = texture(u_ramp, vec2(s, 0.5));
+#else
+  vec4 ink = u_color;
+#endif
+  vec3 rgb = ink.rgb;
+  a *= ink.a;
+#ifdef USE_SPLIT
+  // seed "Fine bristle effect": the split map, scaled toward the tip while soaked
+  a *= texture(u_split, vec2(v_uv.y, s * (1.0 - u_soak_shift))).r;
+#endif
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+  float wet = along_wet(s);
+#endif
+#if defined(USE_DRY) || defined(USE_GRAIN)
+  float press = along_press(s);
+#endif
+#ifdef USE_DRY
+  // seed "Dry brush": only the peaks of the bristle height field touch a dry brush; the
+  // threshold rises as the node dries and falls with pressure
+  float td = clamp((u_dry_param.x - wet) / u_dry_param.x - u_dry_param.y * press, 0.0, 1.0);
+  if (td > 0.0) a *= smoothstep(td, td + 0.04, texture(u_dry, vec2(v_uv.y, s)).r);
+#endif
+#ifdef USE_GRAIN
+  // seed "Grain texture": the paper's valleys stay white under a rather dry brush
+  float tg = clamp((u_dry_param.z - wet) / u_dry_param.z - u_dry_param.w * press, 0.0, 1.0);
+  if (tg > 0.0) a *= smoothstep(tg, tg + 0.05, texture(u_grain, v_mm * u_grain_scale).r);
+#endif
+#ifdef USE_DEPLETION
+  // an emptied node gives less ink: full density down to 10 % of its load, then to nothing
+  a *= clamp(wet * 10.0, 0.0, 1.0);
+#endif
+  if (a <= 1.0 / 4096.0) discard;
+  o_color = vec4(rgb * a, a);
+  // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha)
+  gl_FragDepth = 1.0 - a;
+}
+)";
+
+// Full-tile quad: composite the stroke layer over the paper (premultiplied "over", done by the
+// blend unit with ONE, ONE_MINUS_SRC_ALPHA).
+inline constexpr const char* kQuadVertex = R"(#version 330 core
+layout(location = 0) in vec2 a_pos;
+void main() { gl_Position = vec4(a_pos, 0.0, 1.0); }
+)";
+
+inline constexpr const char* kCompositeFragment = R"(#version 330 core
+uniform sampler2D u_layer;
+out vec4 o_color;
+void main() { o_color = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0); }
+)";
+
+}  // namespace brushwork::shaders

@@ -1,0 +1,345 @@
+"""The renderer: EGL context, paper, footprint pass, sweep, maps, depletion, PNG, undo.
+
+Everything is checked against geometry the core computes (the footprint polygon) or against
+invariants (conservation, connectedness, determinism, resolution independence).
+"""
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+
+import cv2
+import numpy as np
+import pytest
+
+import brushwork as bw
+from brushwork.motions import straight_stroke
+from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD)
+
+
+def pressed(tilt_deg: float, press: float, preset: str = "medium", frames: int = 30) -> bw.Brush:
+    """A brush lowered at (50, 50) mm and pressed `press` L below first contact."""
+    b = bw.Brush(preset)
+    L = b.model.tuft_length
+    cz = L * math.cos(math.radians(tilt_deg))
+    for k in range(frames):
+        b.step(bw.Pose((50.0, 50.0, cz + 0.1 * L - (k + 1) / frames * (press + 0.1) * L), tilt_deg, 30.0))
+    return b
+
+
+def draw(paper: bw.Paper, brush: bw.Brush, poses) -> list:
+    out = []
+    for pose in poses:
+        brush.step(pose)
+        out.append(paper.deposit(brush))
+    paper.end_stroke()
+    return out
+
+
+def mask(paper: bw.Paper) -> np.ndarray:
+    return paper.ink() > MASK_THRESHOLD
+
+
+def iou(a: np.ndarray, b: np.ndarray) -> float:
+    return float((a & b).sum()) / max(float((a | b).sum()), 1.0)
+
+
+def run_isolated(code: str, **env) -> subprocess.CompletedProcess:
+    """Run `code` in a fresh interpreter (the GL context is per process)."""
+    return subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**os.environ, **env}, timeout=120)
+
+
+# --- context -----------------------------------------------------------------------------------
+
+def test_context_reports_its_backend():
+    info = bw.render_info()
+    assert info["backend"] in ("egl-device", "mesa-surfaceless", "default-display")
+    assert info["max_texture_size"] >= 2048
+    assert info["version"]
+
+
+def test_context_close_twice_is_safe_and_a_new_paper_reopens():
+    code = ("import brushwork as bw, brushwork._core as c\n"
+            "ctx = c.RenderContext.acquire(); ctx.close(); ctx.close(); assert ctx.closed\n"
+            "p = bw.Paper(10, 10, 4); print(p.ink().shape)\n")
+    r = run_isolated(code)
+    assert r.returncode == 0, r.stderr
+    assert "(40, 40)" in r.stdout
+
+
+@pytest.mark.parametrize("env, error, words", [
+    ({"BRUSHWORK_RENDER": "disable"}, "RuntimeError", "disabled"),
+    ({"BRUSHWORK_RENDER": "fast"}, "ValueError", "BRUSHWORK_RENDER"),
+    ({"BRUSHWORK_EGL_DEVICE": "x"}, "ValueError", "BRUSHWORK_EGL_DEVICE"),
+    ({"BRUSHWORK_EGL_DEVICE": "99"}, "ValueError", "out of range"),
+])
+def test_context_environment_is_checked(env, error, words):
+    code = ("import brushwork as bw\n"
+            "try:\n    bw.Paper(10, 10, 4)\n"
+            "except Exception as e:\n    print(type(e).__name__, e)\n")
+    r = run_isolated(code, **env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith(error) and words in r.stdout, r.stdout
+
+
+def test_software_rendering_can_be_forced():
+    r = run_isolated("import brushwork as bw; print(bw.render_info()['backend'])",
+                     BRUSHWORK_RENDER="software")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() in ("mesa-surfaceless", "default-display")
+
+
+# --- paper ---------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("args", [(0, 10, 4), (10, -1, 4), (10, 10, float("nan")), (10000, 10, 10)])
+def test_paper_rejects_bad_sizes(args):
+    with pytest.raises(ValueError):
+        bw.Paper(*args)
+
+
+def test_scene_rejects_unknown_and_out_of_range_settings():
+    with pytest.raises(ValueError, match="unknown setting"):
+        bw.Scene(split=True)
+    with pytest.raises(ValueError, match="dry_onset"):
+        bw.Scene(dry_map=True, dry_onset=2.0)
+
+
+@pytest.mark.parametrize("tilt, press", [(0.0, 0.1), (15.0, 0.2), (30.0, 0.3)])
+def test_ink_matches_the_footprint_polygon_at_2048_px(tilt, press):
+    brush = pressed(tilt, press)
+    paper = bw.Paper(100.0, 100.0, 20.48)          # 2048 x 2048 px
+    assert paper.width_px == 2048
+    paper.deposit(brush)
+    area = paper.ink().sum() / paper.px_per_mm ** 2
+    want = brush.footprint_area()
+    assert want > 1.0
+    assert abs(area - want) <= INK_AREA_REL * want, f"ink {area:.3f} mm^2 vs footprint {want:.3f} mm^2"
+
+
+def test_a_brush_in_the_air_leaves_nothing():
+    brush = bw.Brush("medium")
+    brush.step(bw.Pose((20.0, 20.0, 40.0)))
+    paper = bw.Paper(40, 40, 8)
+    stats = paper.deposit(brush)
+    assert not stats.contact
+    assert paper.ink().max() == 0.0
+
+
+def test_tiled_paper_equals_one_tile():
+    poses = straight_stroke(bw.BrushModel.preset("small"), start=(10, 20), length_mm=40, step_mm=2)
+    inks = []
+    for tile in (0, 128):
+        paper = bw.Paper(60, 40, 10, tile_px=tile)
+        draw(paper, bw.Brush("small"), poses)
+        inks.append(paper.ink())
+        assert paper.tiles == (1 if tile == 0 else 5 * 4)
+    assert inks[0].sum() > 10
+    assert np.abs(inks[0] - inks[1]).max() < 1e-3
+    assert iou(inks[0] > MASK_THRESHOLD, inks[1] > MASK_THRESHOLD) > 0.999
+
+
+@pytest.mark.parametrize("radii_per_frame", [1, 5, 20])
+def test_straight_strokes_stay_connected_at_any_drag_speed(radii_per_frame):
+    model = bw.BrushModel.preset("small")
+    step = radii_per_frame * model.belly_radius
+    length = max(60.0, 3 * step)
+    paper = bw.Paper(length + 40, 30, 10)
+    draw(paper, bw.Brush(model), straight_stroke(model, start=(15, 15), length_mm=length, step_mm=step,
+                                                    press=0.25))
+    m = mask(paper).astype(np.uint8)
+    count, labels = cv2.connectedComponents(m, connectivity=8)
+    assert count - 1 == 1, f"{count - 1} separate ink regions at {radii_per_frame} radii per frame"
+    # the ink spans the drag
+    cols = np.flatnonzero(m.any(axis=0)) / paper.px_per_mm
+    assert cols.max() - cols.min() >= 0.9 * length
+
+
+def test_the_same_scene_renders_byte_identical_twice():
+    model = bw.BrushModel.preset("small")
+    poses = straight_stroke(model, start=(10, 20), length_mm=30, step_mm=1.5, press=0.25)
+    images = []
+    for _ in range(2):
+        brush = bw.Brush(model)
+        brush.load_ink(total_mm2=400.0, ramp=[(0.1, 0.1, 0.1, 1.0), (0.6, 0.1, 0.1, 0.8)])
+        brush.wetness = np.full(model.n_segments + 1, 0.3)
+        paper = bw.Paper(50, 40, 10, scene=bw.Scene.full())
+        draw(paper, brush, poses)
+        images.append(paper.rgba().tobytes())
+    assert images[0] == images[1]
+
+
+def test_resolution_does_not_change_the_stroke():
+    model = bw.BrushModel.preset("small")
+    poses = straight_stroke(model, start=(8, 12), length_mm=30, step_mm=1.0, press=0.25, heading_deg=20)
+    masks = {}
+    for px in (1024, 4096):
+        paper = bw.Paper(48, 48, px / 48)
+        draw(paper, bw.Brush(model), poses)
+        ink = paper.ink()
+        f = px // 1024
+        masks[px] = ink.reshape(1024, f, 1024, f).mean(axis=(1, 3)) > MASK_THRESHOLD
+    assert masks[1024].sum() > 500
+    assert iou(masks[1024], masks[4096]) >= MASK_IOU_RESOLUTION
+
+
+# --- ink ----------------------------------------------------------------------------------------
+
+def test_depletion_conserves_ink():
+    model = bw.BrushModel.preset("small")
+    brush = bw.Brush(model)
+    ink = brush.load_ink(total_mm2=150.0)
+    before = ink.total()
+    paper = bw.Paper(120, 30, 10, scene=bw.Scene(depletion=True))
+    stats = draw(paper, brush, straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3))
+    lost = before - ink.total()
+    on_paper = float(paper.ink().sum()) / paper.px_per_mm ** 2
+    assert lost > 0.2 * before, "the stroke should use a good part of the ink"
+    assert abs(on_paper - lost) <= INK_CONSERVATION_REL * lost, f"paper {on_paper:.3f} vs lost {lost:.3f} mm^2"
+    assert abs(ink.deposited - lost) <= INK_CONSERVATION_REL * lost
+    assert sum(s.deposited for s in stats) == pytest.approx(ink.deposited)
+    # the brush dried as it went: wetness follows the load
+    assert brush.wetness.min() < 0.9
+
+
+def test_constant_ink_level_keeps_the_brush_wet():
+    model = bw.BrushModel.preset("small")
+    brush = bw.Brush(model)
+    ink = brush.load_ink(total_mm2=50.0)
+    paper = bw.Paper(120, 30, 10)
+    draw(paper, brush, straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3))
+    assert ink.total() == pytest.approx(50.0)
+    assert np.all(brush.wetness == 1.0)
+
+
+def unpainted_fraction(scene: bw.Scene, wetness: float) -> float:
+    """Fraction of the swept area left white: the same stroke, at the same wetness (wet
+    adhesion makes the brush move differently when dry), without and with `scene`."""
+    model = bw.BrushModel.preset("medium")
+    poses = straight_stroke(model, start=(15, 30), length_mm=60, step_mm=1.0, press=0.3)
+    masks = []
+    for sc in (bw.Scene(), scene):
+        brush = bw.Brush(model)
+        brush.wetness = np.full(model.n_segments + 1, wetness)
+        paper = bw.Paper(100, 60, 8, scene=sc)
+        draw(paper, brush, poses)
+        masks.append(mask(paper))
+    swept, painted = masks[0], masks[1] & masks[0]
+    assert swept.sum() > 1000
+    return 1.0 - painted.sum() / swept.sum()
+
+
+def test_dry_brush_streaks_grow_as_wetness_falls():
+    scene = bw.Scene(dry_map=True)
+    fractions = [unpainted_fraction(scene, w) for w in (1.0, 0.5, 0.3, 0.1)]
+    assert fractions[0] < 0.01, fractions
+    assert all(a < b for a, b in zip(fractions, fractions[1:])), fractions
+    assert fractions[-1] > 0.2, fractions
+
+
+def test_grain_shows_only_below_its_wetness_threshold():
+    scene = bw.Scene(grain=True, grain_onset=0.4)
+    wet, dry = unpainted_fraction(scene, 0.6), unpainted_fraction(scene, 0.15)
+    assert wet < 0.01
+    assert dry > wet + 0.05
+
+
+def test_split_map_opens_streaks_and_a_soaked_tip_closes_them():
+    model = bw.BrushModel.preset("medium")
+    poses = straight_stroke(model, start=(15, 30), length_mm=60, step_mm=1.0, press=0.15)
+    covered = {}
+    for excess in (0.0, 1.0):
+        brush = bw.Brush(model)
+        brush.load_ink(excess=excess)
+        paper = bw.Paper(100, 60, 8, scene=bw.Scene(split_map=True, soaked_tip=True, soak_drain_mm=1e6))
+        draw(paper, brush, poses)
+        covered[excess] = mask(paper).sum()
+    plain = bw.Paper(100, 60, 8)
+    draw(plain, bw.Brush(model), poses)
+    assert covered[0.0] < mask(plain).sum()   # the split map leaves gaps
+    assert covered[1.0] > covered[0.0]         # the soaked, swollen tip closes some
+
+
+def test_color_ramp_colours_the_stroke():
+    model = bw.BrushModel.preset("medium")
+    brush = bw.Brush(model)
+    brush.load_ink(ramp=[(1.0, 0.0, 0.0, 1.0), (0.0, 0.0, 1.0, 1.0)])   # red root, blue tip
+    paper = bw.Paper(100, 60, 8, scene=bw.Scene(color_ramp=True))
+    draw(paper, brush, straight_stroke(model, start=(15, 30), length_mm=40, step_mm=1.0, press=0.3))
+    rgba = paper.rgba()
+    inked = rgba[..., 3] > 0.9
+    red, blue = rgba[..., 0][inked], rgba[..., 2][inked]
+    assert inked.sum() > 100
+    assert (blue > red).mean() > 0.5          # the tip side touches most
+    assert red.max() > 0.2                    # but the ramp reaches it
+
+
+# --- strokes, undo, PNG --------------------------------------------------------------------------
+
+def test_undo_removes_the_last_stroke_only():
+    model = bw.BrushModel.preset("small")
+    paper = bw.Paper(60, 40, 8)
+    draw(paper, bw.Brush(model), straight_stroke(model, start=(10, 10), length_mm=30))
+    first = paper.ink()
+    draw(paper, bw.Brush(model), straight_stroke(model, start=(10, 25), length_mm=30))
+    assert paper.ink().sum() > first.sum() + 1
+    assert paper.undo()
+    assert np.array_equal(paper.ink(), first)
+    assert not paper.undo()
+
+
+def test_overlapping_strokes_blend_and_one_stroke_does_not_double_its_ink():
+    model = bw.BrushModel.preset("small")
+    grey = [(0.0, 0.0, 0.0, 0.5)]
+    paper = bw.Paper(60, 40, 8)
+    brush = bw.Brush(model)
+    brush.load_ink(ramp=grey)
+    # back and forth over the same line in one stroke: still one layer of 50 % ink
+    # (upright, so that turning round does not swing the tuft off the paper)
+    poses = straight_stroke(model, start=(10, 20), length_mm=30, tilt_deg=0.0)
+    back = straight_stroke(model, start=(40, 20), length_mm=30, heading_deg=180, tilt_deg=0.0)
+    stats = draw(paper, brush, poses[:-6] + back[12:])
+    assert sum(s.new_stroke for s in stats) == 1
+    assert paper.ink().max() == pytest.approx(0.5, abs=1e-6)
+    # a second stroke over it: 1 - (1 - 0.5)^2
+    draw(paper, brush, poses)
+    assert paper.ink().max() == pytest.approx(0.75, abs=1e-6)
+
+
+@pytest.mark.parametrize("bits, background", [(8, "white"), (16, "white"), (16, "transparent")])
+def test_png_round_trip(tmp_path, bits, background):
+    model = bw.BrushModel.preset("small")
+    paper = bw.Paper(40, 30, 8)
+    draw(paper, bw.Brush(model), straight_stroke(model, start=(8, 15), length_mm=25))
+    path = paper.save(tmp_path / "p.png", bits=bits, background=background)
+    img = cv2.imread(str(path), cv2.IMREAD_UNCHANGED)
+    assert img.dtype == (np.uint8 if bits == 8 else np.uint16)
+    assert img.shape == (paper.height_px, paper.width_px, 3 if background == "white" else 4)
+    again = bw.Paper(40, 30, 8)
+    again.load(path)
+    assert np.abs(again.ink() - paper.ink()).max() <= 1.0 / (2 ** bits - 1) + 1e-6
+    assert not any(p.name.startswith(".brushwork-") for p in tmp_path.iterdir())
+
+
+def test_load_rejects_a_wrong_size_and_save_a_missing_folder(tmp_path):
+    paper = bw.Paper(40, 30, 8)
+    path = paper.save(tmp_path / "p.png")
+    with pytest.raises(ValueError, match="px"):
+        bw.Paper(20, 30, 8).load(path)
+    with pytest.raises(ValueError, match="does not exist"):
+        paper.save(tmp_path / "nope" / "p.png")
+    with pytest.raises(ValueError, match="not a readable image"):
+        (tmp_path / "bad.png").write_bytes(b"not a png")
+        paper.load(tmp_path / "bad.png")
+
+
+def test_an_8192_px_paper_renders_across_tiles():
+    paper = bw.Paper(409.6, 409.6, 20.0)             # 8192 x 8192 px
+    assert (paper.width_px, paper.height_px) == (8192, 8192)
+    brush = pressed(15.0, 0.2)                      # at (50, 50) mm
+    paper.deposit(brush)
+    ink = paper.ink()
+    area = ink.sum() / paper.px_per_mm ** 2
+    assert abs(area - brush.footprint_area()) <= INK_AREA_REL * brush.footprint_area()
