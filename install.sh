@@ -16,5 +16,5 @@ if [ -n "$missing" ]; then
 fi
 python3 -m pip install -q ".[test]"
 if [ "${BRUSHWORK_SKIP_DEMO:-0}" != 1 ]; then
-  python3 -m brushwork demo -o brush_demo.png
+  python3 -m brushwork gallery -o gallery.png
 fi

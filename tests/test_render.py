@@ -343,3 +343,27 @@ def test_an_8192_px_paper_renders_across_tiles():
     ink = paper.ink()
     area = ink.sum() / paper.px_per_mm ** 2
     assert abs(area - brush.footprint_area()) <= INK_AREA_REL * brush.footprint_area()
+
+
+# --- brush view ----------------------------------------------------------------------------------
+
+def test_brush_view_modes_show_the_brush_and_its_shadow():
+    model = bw.BrushModel.preset("medium")
+    brush = pressed(20.0, 0.2)
+    paper = bw.Paper(100, 100, 4)
+    paper.deposit(brush)
+    view = bw.BrushView(200, 150)
+    images = {mode: view.render(brush, paper, mode=mode) for mode in ("shaded", "outlined", "transparent")}
+    no_brush = view.render(bw.Brush(model), paper, target=images and (50, 50, 10), shadow=False)
+    for mode, img in images.items():
+        assert img.shape == (150, 200, 4) and img.dtype == np.uint8
+        assert img[..., 3].min() == 255
+    # the outline's colour appears only in the outlined view
+    orange = lambda im: ((im[..., 0] > 200) & (im[..., 1] > 100) & (im[..., 1] < 180) & (im[..., 2] < 80)).sum()
+    assert orange(images["outlined"]) > 20 and orange(images["shaded"]) == 0
+    # transparent: lighter on average than shaded (the paper shows through)
+    assert images["transparent"][..., :3].mean() > images["shaded"][..., :3].mean()
+    # with the shadow off and the brush away, the view is different
+    assert not np.array_equal(no_brush, images["shaded"])
+    with pytest.raises(ValueError, match="mode"):
+        view.render(brush, paper, mode="wireframe")

@@ -133,4 +133,28 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
         if (a.ndim() != 2) throw std::invalid_argument("set_map: expected a 2-D grey-scale array");
         p.set_map(which, a.data(), static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)));
       }, py::arg("which"), py::arg("image"));
+
+  py::class_<ViewOptions>(m, "ViewOptions", R"doc(
+Brush view camera and style. mode: shaded | outlined | transparent; eye, target: mm; fov_deg: 0
+for orthographic (then ortho_height_mm is the height seen); light: direction toward the light.)doc")
+      .def(py::init<>())
+      .def_readwrite("mode", &ViewOptions::mode)
+      .def_readwrite("shadow", &ViewOptions::shadow)
+      .def_readwrite("eye", &ViewOptions::eye)
+      .def_readwrite("target", &ViewOptions::target)
+      .def_readwrite("fov_deg", &ViewOptions::fov_deg)
+      .def_readwrite("ortho_height_mm", &ViewOptions::ortho_height_mm)
+      .def_readwrite("light", &ViewOptions::light)
+      .def("validate", &ViewOptions::validate);
+
+  py::class_<BrushView>(m, "BrushView", "An offscreen image of the brush over the paper.")
+      .def(py::init<int, int>(), py::arg("width_px"), py::arg("height_px"))
+      .def_property_readonly("width_px", &BrushView::width_px)
+      .def_property_readonly("height_px", &BrushView::height_px)
+      .def("render", [](BrushView& v, Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o) {
+        py::array_t<std::uint8_t> a({v.height_px(), v.width_px(), 4});
+        v.render(paper, brush, ink, o, a.mutable_data());
+        return a;
+      }, py::arg("paper"), py::arg("brush"), py::arg("ink") = nullptr, py::arg("options") = ViewOptions(),
+      "(H, W, 4) uint8 RGBA, row 0 at the top");
 }

@@ -3,7 +3,8 @@ from ._core import BrushModel, DepositStats, Ink, MeshOptions, StepStats
 from .brush import Brush, Pose
 from .paper import Paper, render_info
 from .scene import Scene
+from .view import BrushView
 
-__all__ = ["Brush", "BrushModel", "DepositStats", "Ink", "MeshOptions", "Paper", "Pose", "Scene",
+__all__ = ["Brush", "BrushModel", "BrushView", "DepositStats", "Ink", "MeshOptions", "Paper", "Pose", "Scene",
            "StepStats", "render_info"]
 __version__ = "0.1.0"

@@ -55,6 +55,26 @@ def _solver(args: argparse.Namespace) -> int:
     return 0
 
 
+def _render_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--px", type=int, default=2048, help="canvas size in pixels (default 2048)")
+    p.add_argument("--frames", type=int, default=320, help="frames of the stroke (default 320)")
+    p.add_argument("--repeats", type=int, default=3, help="runs per scene, best kept (default 3)")
+
+
+def _render(args: argparse.Namespace) -> int:
+    from .bench import render, report
+
+    if args.json:
+        report.check_writable(args.json)
+    result = render.run(px=args.px, frames=args.frames, repeats=args.repeats,
+                        progress=lambda msg: print(f"  {msg}", file=sys.stderr))
+    print(render.table(result))
+    if args.json:
+        report.write_json(args.json, {"benchmark": "render", **result})
+    return 0
+
+
 # benchmarks not written yet: accept anything, say so, exit 2
 def _pending_args(p: argparse.ArgumentParser) -> None:
     p.set_defaults(accepts_extra=True)
@@ -87,11 +107,29 @@ def _demo(args: argparse.Namespace) -> int:
     return rc if isinstance(rc, int) else 0
 
 
+def _gallery_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("-o", "--output", metavar="FILE", default="gallery.png",
+                   help="the PNG to write (default gallery.png)")
+    p.add_argument("--px-per-mm", type=float, default=10.0,
+                   help="resolution of the paper (default 10 px/mm: 2100 x 1500 px)")
+
+
+def _gallery(args: argparse.Namespace) -> int:
+    from .gallery import render_gallery
+
+    if not 1.0 <= args.px_per_mm <= 40.0:
+        raise ValueError(f"--px-per-mm {args.px_per_mm}: expected 1..40")
+    path = render_gallery(args.output, args.px_per_mm,
+                          progress=lambda msg: print(f"  {msg}", file=sys.stderr))
+    print(f"wrote {path}")
+    return 0
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
     "solver": ("solver speed, carried vs fresh Hessian", _solver_args, _solver),
-    "render": ("(not implemented yet)", _pending_args, _pending("bench render")),
+    "render": ("deposit cost per frame, minimal vs full scene", _render_args, _render),
     "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
     "precision": ("(not implemented yet)", _pending_args, _pending("bench precision")),
 }
@@ -110,6 +148,7 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
+    "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
 }
 
 

@@ -121,3 +121,55 @@ def straight_stroke(model: BrushModel, start=(0.0, 0.0), length_mm: float = 60.0
         poses.append(Pose((start[0] + d * ux, start[1] + d * uy,
                            _lerp(z_press, z_air + 0.1 * L, (k + 1) / lift_frames)), tilt_deg, az))
     return poses
+
+
+def along_path(model: BrushModel, points, press, tilt_deg=15.0, azimuth_deg=None,
+               step_mm: float = 0.5, approach_frames: int = 8, lift_frames: int = 6,
+               hover: float = 0.1) -> list[Pose]:
+    """Poses that carry the brush along a polyline on the paper.
+
+    points: (k, 2) mm, k >= 2; press: depth below first contact as a fraction of L, a scalar
+    or (k,) per point (0: the tip just touches; negative: above the paper); tilt_deg and
+    azimuth_deg: scalars or (k,) (azimuth None: the handle leans along the local heading, so the
+    tip trails). The path is resampled every `step_mm`; the brush descends from `hover` L above
+    contact over `approach_frames` and rises as much over `lift_frames` at the end.
+    """
+    pts = np.asarray(points, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 2 or not np.all(np.isfinite(pts)):
+        raise ValueError("along_path: points must be a finite (k, 2) array with k >= 2")
+    if not step_mm > 0:
+        raise ValueError(f"along_path: step_mm = {step_mm} must be > 0")
+    k = len(pts)
+
+    def per_point(v, name):
+        a = np.broadcast_to(np.asarray(v, dtype=float), (k,)).copy()
+        if not np.all(np.isfinite(a)):
+            raise ValueError(f"along_path: {name} must be finite")
+        return a
+
+    press_k, tilt_k = per_point(press, "press"), per_point(tilt_deg, "tilt_deg")
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])                       # (k,) arc length, mm
+    if s[-1] <= 0:
+        raise ValueError("along_path: the path has zero length")
+    headings = np.degrees(np.arctan2(np.diff(pts[:, 1]), np.diff(pts[:, 0])))
+    headings = np.degrees(np.unwrap(np.radians(np.concatenate([headings, headings[-1:]]))))
+    az_k = headings if azimuth_deg is None else per_point(azimuth_deg, "azimuth_deg")
+    n = max(2, int(math.ceil(s[-1] / step_mm)) + 1)
+    ss = np.linspace(0.0, s[-1], n)
+    xs, ys = np.interp(ss, s, pts[:, 0]), np.interp(ss, s, pts[:, 1])
+    pr, tl, az = np.interp(ss, s, press_k), np.interp(ss, s, tilt_k), np.interp(ss, s, az_k)
+    L = model.tuft_length
+
+    def z_of(p, tilt):
+        return L * math.cos(math.radians(tilt)) - p * L
+
+    poses = []
+    for j in range(approach_frames):
+        t = (j + 1) / (approach_frames + 1)
+        poses.append(Pose((xs[0], ys[0], _lerp(z_of(-hover, tl[0]), z_of(pr[0], tl[0]), t)), tl[0], az[0]))
+    poses += [Pose((x, y, z_of(p, t)), t, a) for x, y, p, t, a in zip(xs, ys, pr, tl, az)]
+    for j in range(lift_frames):
+        t = (j + 1) / lift_frames
+        poses.append(Pose((xs[-1], ys[-1], _lerp(z_of(pr[-1], tl[-1]), z_of(-hover, tl[-1]), t)), tl[-1], az[-1]))
+    return poses

@@ -191,3 +191,40 @@ class Paper {
 };
 
 }  // namespace brushwork
+
+namespace brushwork {
+
+// How to look at the brush over the paper.
+struct ViewOptions {
+  std::string mode = "shaded";  // "shaded" | "outlined" | "transparent"
+  bool shadow = true;
+  Eigen::Vector3d eye{0.0, -60.0, 80.0};  // camera position, mm
+  Eigen::Vector3d target{0.0, 0.0, 10.0}; // looked-at point, mm
+  double fov_deg = 35.0;                  // vertical field of view; 0: orthographic
+  double ortho_height_mm = 80.0;          // orthographic: paper height seen, mm
+  Eigen::Vector3d light{-0.4, -0.5, 1.0}; // direction toward the light (normalised here)
+  void validate() const;
+};
+
+// An offscreen image of the brush over the paper, multisampled (seed Figure 8).
+class BrushView {
+ public:
+  BrushView(int width_px, int height_px);
+  ~BrushView();
+  BrushView(const BrushView&) = delete;
+  BrushView& operator=(const BrushView&) = delete;
+  int width_px() const { return W_; }
+  int height_px() const { return H_; }
+  // (H, W, 4) RGBA8 into `out`, row 0 at the top; paper and ink may be null
+  void render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
+              std::uint8_t* out);
+
+ private:
+  std::shared_ptr<RenderContext> ctx_;
+  int W_, H_;
+  unsigned fbo_ms_ = 0, color_ms_ = 0, depth_ms_ = 0, fbo_ = 0, color_ = 0;
+  unsigned brush_prog_ = 0, paper_prog_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0;
+  unsigned paper_vao_ = 0, paper_vbo_ = 0, ramp_tex_ = 0;
+};
+
+}  // namespace brushwork

@@ -123,3 +123,74 @@ void main() { o_color = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0); }
 )";
 
 }  // namespace brushwork::shaders
+
+namespace brushwork::shaders {
+
+// Brush view (seed "System prototype": the tuft shaded, or outlined for legibility, or
+// transparent, with its shadow, over the painting, from an orthographic or perspective camera).
+inline constexpr const char* kViewVertex = R"(#version 330 core
+layout(location = 0) in vec3 a_pos;     // mm
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in vec2 a_uv;
+uniform mat4 u_mvp;
+uniform float u_push;       // mm along the normal (outline shell)
+uniform vec3 u_flatten;     // shadow: project along this direction onto z = u_flatten_z
+uniform float u_flatten_z;
+uniform int u_shadow;
+out vec3 v_normal;
+out float v_s;
+void main() {
+  vec3 p = a_pos + a_normal * u_push;
+  if (u_shadow == 1) p = vec3(p.xy - u_flatten.xy * (p.z / u_flatten.z), u_flatten_z);
+  v_normal = a_normal;
+  v_s = a_uv.x;
+  gl_Position = u_mvp * vec4(p, 1.0);
+}
+)";
+
+inline constexpr const char* kViewFragment = R"(#version 330 core
+in vec3 v_normal;
+in float v_s;
+uniform sampler2D u_ramp;   // ink colour along the spine
+uniform vec4 u_flat;        // a flat colour (outline, shadow), used when u_flat.a > 0
+uniform int u_shade;        // 1: Lambert shading of the ink colour
+uniform vec3 u_light;       // unit direction toward the light
+uniform float u_alpha;
+out vec4 o_color;
+void main() {
+  if (u_flat.a > 0.0) { o_color = u_flat; return; }
+  vec3 ink = texture(u_ramp, vec2(v_s, 0.5)).rgb;
+  // tufts loaded with black ink would read as a silhouette: lift the albedo a little
+  vec3 albedo = mix(vec3(0.18), vec3(1.0), ink);
+  vec3 c = albedo;
+  if (u_shade == 1) {
+    float d = max(dot(normalize(v_normal), u_light), 0.0);
+    c = albedo * (0.35 + 0.65 * d) + vec3(0.08) * pow(d, 16.0);
+  }
+  o_color = vec4(c, u_alpha);
+}
+)";
+
+inline constexpr const char* kPaperVertex = R"(#version 330 core
+layout(location = 0) in vec2 a_mm;    // corner of a paper tile on z = 0
+layout(location = 1) in vec2 a_uv;
+uniform mat4 u_mvp;
+out vec2 v_uv;
+void main() { v_uv = a_uv; gl_Position = u_mvp * vec4(a_mm, 0.0, 1.0); }
+)";
+
+inline constexpr const char* kPaperFragment = R"(#version 330 core
+in vec2 v_uv;
+uniform sampler2D u_paper;   // premultiplied ink
+uniform sampler2D u_layer;   // the stroke in progress, premultiplied
+uniform int u_has_layer;
+uniform vec3 u_paper_color;
+out vec4 o_color;
+void main() {
+  vec4 ink = texture(u_paper, v_uv);
+  if (u_has_layer == 1) { vec4 l = texture(u_layer, v_uv); ink = l + ink * (1.0 - l.a); }
+  o_color = vec4(ink.rgb + u_paper_color * (1.0 - ink.a), 1.0);
+}
+)";
+
+}  // namespace brushwork::shaders

@@ -1,0 +1,304 @@
+// The brush view: the tuft over the painting, for previews (seed "System prototype", Figure 8).
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "brushwork/render.hpp"
+#include "gl_util.hpp"
+#include "render_mesh.hpp"
+#include "shaders.hpp"
+
+namespace brushwork {
+namespace {
+
+using Mat4 = Eigen::Matrix4f;
+
+// right-handed look-at (OpenGL convention: the camera looks down -z)
+Mat4 look_at(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, Eigen::Vector3f up) {
+  const Eigen::Vector3f f = (target - eye).normalized();
+  if (std::fabs(f.dot(up)) > 0.999f) up = Eigen::Vector3f::UnitY();  // looking straight down
+  const Eigen::Vector3f s = f.cross(up).normalized(), u = s.cross(f);
+  Mat4 m = Mat4::Identity();
+  m.block<1, 3>(0, 0) = s.transpose();
+  m.block<1, 3>(1, 0) = u.transpose();
+  m.block<1, 3>(2, 0) = -f.transpose();
+  m(0, 3) = -s.dot(eye);
+  m(1, 3) = -u.dot(eye);
+  m(2, 3) = f.dot(eye);
+  return m;
+}
+
+Mat4 perspective(float fov_deg, float aspect, float near, float far) {
+  const float t = 1.0f / std::tan(0.5f * fov_deg * 3.14159265f / 180.0f);
+  Mat4 m = Mat4::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (far + near) / (near - far);
+  m(2, 3) = 2.0f * far * near / (near - far);
+  m(3, 2) = -1.0f;
+  return m;
+}
+
+Mat4 orthographic(float half_w, float half_h, float near, float far) {
+  Mat4 m = Mat4::Identity();
+  m(0, 0) = 1.0f / half_w;
+  m(1, 1) = 1.0f / half_h;
+  m(2, 2) = -2.0f / (far - near);
+  m(2, 3) = -(far + near) / (far - near);
+  return m;
+}
+
+}  // namespace
+
+void ViewOptions::validate() const {
+  if (mode != "shaded" && mode != "outlined" && mode != "transparent")
+    throw std::invalid_argument("view mode '" + mode + "': expected shaded, outlined or transparent");
+  if (!eye.allFinite() || !target.allFinite() || !light.allFinite())
+    throw std::invalid_argument("view: eye, target and light must be finite");
+  if ((eye - target).norm() < 1e-6) throw std::invalid_argument("view: eye and target coincide");
+  if (!(fov_deg >= 0.0 && fov_deg < 170.0)) throw std::invalid_argument("view: fov_deg must be 0 (orthographic) .. 170");
+  if (!(ortho_height_mm > 0.0) || !std::isfinite(ortho_height_mm))
+    throw std::invalid_argument("view: ortho_height_mm must be > 0");
+  if (light.norm() < 1e-9 || light.z() <= 0.0)
+    throw std::invalid_argument("view: the light must shine from above the paper (light.z > 0)");
+}
+
+BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) {
+  if (W_ < 8 || H_ < 8 || W_ > 8192 || H_ > 8192)
+    throw std::invalid_argument("brush view of " + std::to_string(W_) + " x " + std::to_string(H_) +
+                                " px: each side must be 8..8192");
+  ctx_ = RenderContext::acquire();
+  ctx_->make_current();
+  GLint max_samples = 1;
+  gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  const GLsizei samples = std::clamp(static_cast<int>(max_samples), 1, 4);
+  gl::GenRenderbuffers(1, &color_ms_);
+  gl::BindRenderbuffer(GL_RENDERBUFFER, color_ms_);
+  gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, W_, H_);
+  gl::GenRenderbuffers(1, &depth_ms_);
+  gl::BindRenderbuffer(GL_RENDERBUFFER, depth_ms_);
+  gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH24_STENCIL8, W_, H_);
+  gl::GenFramebuffers(1, &fbo_ms_);
+  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_ms_);
+  gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_ms_);
+  gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_ms_);
+  glu::check_framebuffer("brush view");
+  color_ = glu::texture(GL_RGBA8, W_, H_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr, false, GL_CLAMP_TO_EDGE);
+  gl::GenFramebuffers(1, &fbo_);
+  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
+  glu::check_framebuffer("brush view resolve");
+
+  brush_prog_ = glu::program(shaders::kViewVertex, shaders::kViewFragment, {});
+  paper_prog_ = glu::program(shaders::kPaperVertex, shaders::kPaperFragment, {});
+  gl::GenVertexArrays(1, &vao_);
+  gl::GenBuffers(1, &vbo_);
+  gl::GenBuffers(1, &ibo_);
+  gl::BindVertexArray(vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
+  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
+  const GLsizei stride = 8 * sizeof(float);  // position, normal, uv
+  gl::EnableVertexAttribArray(0);
+  gl::VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
+  gl::EnableVertexAttribArray(1);
+  gl::VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
+  gl::EnableVertexAttribArray(2);
+  gl::VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+  gl::GenVertexArrays(1, &paper_vao_);
+  gl::GenBuffers(1, &paper_vbo_);
+  gl::BindVertexArray(paper_vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, paper_vbo_);
+  gl::EnableVertexAttribArray(0);
+  gl::VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), nullptr);
+  gl::EnableVertexAttribArray(1);
+  gl::VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), reinterpret_cast<const void*>(2 * sizeof(float)));
+  gl::BindVertexArray(0);
+  ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
+  glu::check("brush view set-up");
+}
+
+BrushView::~BrushView() {
+  if (!ctx_ || ctx_->closed()) return;
+  try {
+    ctx_->make_current();
+  } catch (...) {
+    return;
+  }
+  gl::DeleteFramebuffers(1, &fbo_ms_);
+  gl::DeleteFramebuffers(1, &fbo_);
+  gl::DeleteRenderbuffers(1, &color_ms_);
+  gl::DeleteRenderbuffers(1, &depth_ms_);
+  gl::DeleteTextures(1, &color_);
+  gl::DeleteTextures(1, &ramp_tex_);
+  gl::DeleteProgram(brush_prog_);
+  gl::DeleteProgram(paper_prog_);
+  gl::DeleteVertexArrays(1, &vao_);
+  gl::DeleteVertexArrays(1, &paper_vao_);
+  gl::DeleteBuffers(1, &vbo_);
+  gl::DeleteBuffers(1, &ibo_);
+  gl::DeleteBuffers(1, &paper_vbo_);
+}
+
+void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
+                       std::uint8_t* out) {
+  o.validate();
+  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
+  ctx_->make_current();
+  // paper tiles first: they flush nothing, but may resolve the stroke in progress
+  const auto tiles = paper != nullptr ? paper->tile_textures() : std::vector<Paper::TileRef>{};
+
+  // camera
+  const Eigen::Vector3f eye = o.eye.cast<float>(), target = o.target.cast<float>();
+  const float dist = (eye - target).norm();
+  const float aspect = static_cast<float>(W_) / H_;
+  const Mat4 view = look_at(eye, target, Eigen::Vector3f::UnitZ());
+  const Mat4 proj = o.fov_deg > 0.0
+                        ? perspective(static_cast<float>(o.fov_deg), aspect, 0.02f * dist, 50.0f * dist)
+                        : orthographic(0.5f * static_cast<float>(o.ortho_height_mm) * aspect,
+                                       0.5f * static_cast<float>(o.ortho_height_mm), 0.01f * dist, 50.0f * dist);
+  const Mat4 mvp = proj * view;
+
+  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_ms_);
+  gl::Viewport(0, 0, W_, H_);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::ClearColor(0.82f, 0.82f, 0.80f, 1.0f);
+  gl::ClearDepth(1.0);
+  gl::ClearStencil(0);
+  gl::DepthMask(GL_TRUE);
+  gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  gl::Enable(GL_DEPTH_TEST);
+  gl::DepthFunc(GL_LEQUAL);
+
+  // the paper: each tile a quad on z = 0 showing its ink on warm white
+  if (paper != nullptr) {
+    gl::UseProgram(paper_prog_);
+    gl::UniformMatrix4fv(glu::uniform(paper_prog_, "u_mvp"), 1, GL_FALSE, mvp.data());
+    gl::Uniform3f(glu::uniform(paper_prog_, "u_paper_color"), 0.97f, 0.955f, 0.92f);
+    gl::Uniform1i(glu::uniform(paper_prog_, "u_paper"), 0);
+    gl::Uniform1i(glu::uniform(paper_prog_, "u_layer"), 1);
+    gl::BindVertexArray(paper_vao_);
+    const double ppm = paper->px_per_mm();
+    for (const auto& t : tiles) {
+      const float x0 = static_cast<float>(t.x0 / ppm), y0 = static_cast<float>(t.y0 / ppm);
+      const float x1 = static_cast<float>((t.x0 + t.w) / ppm), y1 = static_cast<float>((t.y0 + t.h) / ppm);
+      const float quad[24] = {x0, y0, 0, 0, x1, y0, 1, 0, x1, y1, 1, 1,
+                              x0, y0, 0, 0, x1, y1, 1, 1, x0, y1, 0, 1};
+      gl::BindBuffer(GL_ARRAY_BUFFER, paper_vbo_);
+      gl::BufferData(GL_ARRAY_BUFFER, sizeof(quad), quad, GL_STREAM_DRAW);
+      for (int u = 0; u < 2; ++u) {
+        gl::ActiveTexture(GL_TEXTURE0 + u);
+        gl::BindTexture(GL_TEXTURE_2D, u == 0 ? t.paper : t.layer);
+        // the float ink is sampled with linear filtering when the view magnifies it
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      }
+      gl::Uniform1i(glu::uniform(paper_prog_, "u_has_layer"), t.layer != 0 ? 1 : 0);
+      gl::DrawArrays(GL_TRIANGLES, 0, 6);
+    }
+    gl::ActiveTexture(GL_TEXTURE0);
+  }
+
+  // the tuft: positions, normals, uv
+  MeshOptions opt;
+  opt.rings_per_segment = 6;
+  opt.around = 48;
+  const RenderMesh mesh = build_render_mesh(brush, opt);
+  const int V = mesh.vertices();
+  std::vector<float> vb(static_cast<std::size_t>(8) * V);
+  for (int v = 0; v < V; ++v) {
+    for (int d = 0; d < 3; ++d) {
+      vb[8 * v + d] = mesh.position[3 * v + d];
+      vb[8 * v + 3 + d] = mesh.normal[3 * v + d];
+    }
+    vb[8 * v + 6] = mesh.uv[2 * v];
+    vb[8 * v + 7] = mesh.uv[2 * v + 1];
+  }
+  gl::UseProgram(brush_prog_);
+  gl::BindVertexArray(vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
+  gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data(), GL_STREAM_DRAW);
+  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
+  gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.faces.size() * sizeof(std::uint32_t)),
+                 mesh.faces.data(), GL_STREAM_DRAW);
+  const auto n_idx = static_cast<GLsizei>(mesh.faces.size());
+  std::vector<std::array<float, 4>> ramp = ink != nullptr ? ink->ramp : std::vector<std::array<float, 4>>{{0, 0, 0, 1}};
+  gl::ActiveTexture(GL_TEXTURE0);
+  gl::BindTexture(GL_TEXTURE_2D, ramp_tex_);
+  gl::TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, static_cast<GLsizei>(ramp.size()), 1, 0, GL_RGBA, GL_FLOAT, ramp.data());
+  const Eigen::Vector3f light = o.light.cast<float>().normalized();
+  gl::UniformMatrix4fv(glu::uniform(brush_prog_, "u_mvp"), 1, GL_FALSE, mvp.data());
+  gl::Uniform1i(glu::uniform(brush_prog_, "u_ramp"), 0);
+  gl::Uniform3f(glu::uniform(brush_prog_, "u_light"), light.x(), light.y(), light.z());
+  const GLint u_push = glu::uniform(brush_prog_, "u_push"), u_flat = glu::uniform(brush_prog_, "u_flat");
+  const GLint u_shadow = glu::uniform(brush_prog_, "u_shadow"), u_shade = glu::uniform(brush_prog_, "u_shade");
+  const GLint u_alpha = glu::uniform(brush_prog_, "u_alpha");
+  gl::Uniform3f(glu::uniform(brush_prog_, "u_flatten"), light.x(), light.y(), light.z());
+
+  // shadow: the tuft flattened onto the paper along the light, darkened once (stencil)
+  if (o.shadow && paper != nullptr) {
+    gl::Uniform1f(glu::uniform(brush_prog_, "u_flatten_z"), 0.02f);
+    gl::Uniform1i(u_shadow, 1);
+    gl::Uniform1f(u_push, 0.0f);
+    gl::Uniform4f(u_flat, 0.0f, 0.0f, 0.0f, 0.28f);
+    gl::Enable(GL_STENCIL_TEST);
+    gl::StencilFunc(GL_NOTEQUAL, 1, 0xFF);
+    gl::StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    gl::Enable(GL_BLEND);
+    gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // keep alpha opaque
+    gl::DepthMask(GL_FALSE);
+    gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+    gl::DepthMask(GL_TRUE);
+    gl::Disable(GL_STENCIL_TEST);
+    gl::Disable(GL_BLEND);
+    gl::Uniform1i(u_shadow, 0);
+  }
+
+  // outline: a shell pushed out along the normals, back faces only, drawn dark
+  if (o.mode == "outlined") {
+    const float px_mm = (o.fov_deg > 0.0 ? 2.0f * dist * std::tan(0.5f * static_cast<float>(o.fov_deg) * 3.14159265f / 180.0f)
+                                         : static_cast<float>(o.ortho_height_mm)) / H_;
+    gl::Uniform1f(u_push, 2.0f * px_mm);
+    gl::Uniform4f(u_flat, 0.95f, 0.55f, 0.1f, 1.0f);  // a contrasting outline (seed Figure 8)
+    gl::Enable(GL_CULL_FACE);
+    gl::FrontFace(GL_CCW);
+    gl::CullFace(GL_FRONT);
+    gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+    gl::Disable(GL_CULL_FACE);
+    gl::Uniform1f(u_push, 0.0f);
+  }
+
+  // the tuft itself
+  gl::Uniform4f(u_flat, 0, 0, 0, 0);
+  gl::Uniform1i(u_shade, o.mode == "outlined" ? 0 : 1);
+  if (o.mode == "transparent") {
+    gl::Uniform1f(u_alpha, 0.35f);
+    gl::Enable(GL_BLEND);
+    gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // keep alpha opaque
+    gl::DepthMask(GL_FALSE);
+  } else {
+    gl::Uniform1f(u_alpha, 1.0f);
+  }
+  gl::Enable(GL_CULL_FACE);
+  gl::CullFace(GL_BACK);
+  gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+  gl::Disable(GL_CULL_FACE);
+  gl::DepthMask(GL_TRUE);
+  gl::Disable(GL_BLEND);
+  gl::Disable(GL_DEPTH_TEST);
+  gl::BindVertexArray(0);
+
+  // resolve the samples and read back; GL rows run bottom-up, flipped here once
+  gl::BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_ms_);
+  gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
+  gl::BlitFramebuffer(0, 0, W_, H_, 0, 0, W_, H_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(4) * W_ * H_);
+  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl::ReadPixels(0, 0, W_, H_, GL_RGBA, GL_UNSIGNED_BYTE, buf.data());
+  for (int j = 0; j < H_; ++j)
+    std::copy_n(&buf[4 * static_cast<std::size_t>(j) * W_], 4 * W_, out + 4 * static_cast<std::size_t>(H_ - 1 - j) * W_);
+  glu::check("brush view");
+}
+
+}  // namespace brushwork
