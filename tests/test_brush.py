@@ -4,7 +4,7 @@ import pytest
 
 import brushwork as bw
 from brushwork.motions import pressed_drag, press_drag_turn_lift, replay
-from tolerances import PENETRATION_FRAC, STRAIGHT_ANGLE
+from tolerances import DRAG_WIDTH_PER_DIAMETER, FOOTPRINT_DEPTHS, PENETRATION_FRAC, STRAIGHT_ANGLE
 
 
 def lowered(brush, depth_frac, z_from=None, steps_per_mm=2, settle=5, tilt=0.0):
@@ -53,7 +53,7 @@ def test_held_above_the_paper_stays_straight_and_unstrained():
 
 def test_pressing_deeper_widens_the_footprint():
     b = bw.Brush("medium")
-    # up to ~12% of L; past that the upright column buckles (see the closing note of issue 2)
+    # fine steps of a light upright press (test_footprint_grows_with_press_depth goes to 0.4 L)
     depths = [0.03, 0.045, 0.06, 0.075, 0.09, 0.105, 0.12]
     areas = []
     for d in depths:
@@ -178,3 +178,52 @@ def test_surface_mesh_and_footprint_shapes():
     assert loops and all(l.shape[1] == 2 and len(l) >= 3 for l in loops)
     assert b.footprint_area() > 0
     assert b.last_stats.max_penetration <= PENETRATION_FRAC * b.model.tuft_length
+
+
+def _pressed(model, tilt, depth, drag_frames=0, frames=40):
+    """Press from 0.05 L above first contact to `depth` L below it over `frames` frames, hold 5,
+    then drag along +x (the handle leaning into the travel, the tip trailing) at 0.02 L per frame.
+    Returns the brush and the (area mm^2, width mm across the travel) of each of the last 10
+    frames (of the hold when there is no drag)."""
+    b = bw.Brush(model)
+    L = model.tuft_length
+    zc = L * np.cos(np.radians(tilt))
+    z1 = zc - depth * L
+    for z in np.linspace(zc + 0.05 * L, z1, frames + 1)[1:]:
+        b.step(bw.Pose((0.0, 0.0, z), tilt))
+    poses = [bw.Pose((0.0, 0.0, z1), tilt)] * 5
+    poses += [bw.Pose((0.02 * L * (k + 1), 0.0, z1), tilt) for k in range(drag_frames)]
+    rec = []
+    for p in poses:
+        b.step(p)
+        rec.append((b.footprint_area(), footprint_extent(b, axis=1)))
+    return b, np.array(rec[-10:] if drag_frames else rec[-1:])
+
+
+@pytest.mark.parametrize("tilt", [0.0, 15.0])
+def test_footprint_grows_with_press_depth(tilt):
+    # a real brush lays its belly down as it is pressed: from the tip alone to a stroke wider
+    # than the belly (seed Figures 1a, 11); area and width grow with every step of depth
+    m = bw.BrushModel.preset("medium")
+    areas, widths = [], []
+    for d in FOOTPRINT_DEPTHS:
+        _, rec = _pressed(m, tilt, d)
+        areas.append(rec[-1, 0])
+        widths.append(rec[-1, 1])
+    msg = f"tilt {tilt}: areas {np.round(areas, 1)} mm^2, widths {np.round(widths, 2)} mm"
+    assert all(a1 > a0 for a0, a1 in zip(areas, areas[1:])), msg
+    assert all(w1 > w0 for w0, w1 in zip(widths, widths[1:])), msg
+    assert widths[0] < 0.5 * m.belly_radius * 2, msg          # a light touch: near the tip only
+    assert widths[-1] > 1.5 * 2 * m.belly_radius, msg          # 0.4 L: 1.5 belly diameters
+
+
+def test_a_pressed_tilted_drag_keeps_its_belly_on_the_paper():
+    # 15 degrees toward the travel, 0.3 L below first contact, dragged 40 frames: the tip trails
+    # and the belly stays down, so the stroke is at least a belly diameter wide
+    m = bw.BrushModel.preset("medium")
+    b, rec = _pressed(m, 15.0, 0.3, drag_frames=40)
+    width = rec[:, 1].mean()
+    assert width >= DRAG_WIDTH_PER_DIAMETER * 2 * m.belly_radius, f"width {width:.2f} mm"
+    sk = b.skeleton()
+    assert sk[-1, 0] < sk[0, 0], "the tip trails"
+    assert b.last_stats.max_penetration <= PENETRATION_FRAC * m.tuft_length

@@ -7,7 +7,10 @@ GRADIENT_REL = 1e-5          # normalised relative error of analytic vs finite-d
 PENETRATION_FRAC = 0.01      # shrunk sections below the paper, as a fraction of the tuft length
 MERIT_SLACK = 1e-12          # relative round-off allowed when checking the merit never rises
 STRAIGHT_ANGLE = 1e-6        # rad: "straight" bend angles of an untouched brush
-CARRIED_HESSIAN_RATIO = 0.7  # mean iterations carried / fresh on a recorded stroke (seed: 7.4 / 14.6)
+CARRIED_HESSIAN_RATIO = 0.85  # mean iterations carried / fresh on a recorded stroke (seed: 7.4 / 14.6);
+                              # 0.36 while only the tip touched, 0.81 since the belly lies on the paper
+FOOTPRINT_DEPTHS = (0.05, 0.1, 0.2, 0.3, 0.4)  # press depths below first contact, fractions of L
+DRAG_WIDTH_PER_DIAMETER = 1.0  # dragged footprint width / belly diameter at a 0.3 L press, at least
 
 
 def assert_rel_close(name: str, got: np.ndarray, want: np.ndarray, rel: float) -> None:

@@ -83,7 +83,13 @@ Brush::Brush(const BrushModel& model) : model_(model) {
   for (int i = 0; i <= n_; ++i)
     kpsi_[i] = 0.1 * std::max(model_.twist_stiffness, 0.1) * kb_[std::min(i, n_ - 1)];
   ks_ = model_.stretch_stiffness;
-  klb_ = model_.lateral_bend_stiffness;
+  // lateral bend springs follow the bend springs' hair-count law (model.cpp, stiffness_profile):
+  // the spring at node i stiffens the tuft's sides like joint i's spring its spine.  (n+1,) N*mm
+  {
+    const VecX prof = model_.stiffness_profile();
+    klb_.resize(n_ + 1);
+    for (int i = 0; i <= n_; ++i) klb_[i] = model_.lateral_bend_stiffness * prof[std::min(i, n_ - 1)];
+  }
   eta_ = model_.internal_friction;
 
   // active variables: everything but the stretches when lateral spreading is off
@@ -297,7 +303,7 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
   // bend springs between consecutive lateral nodes P_i = O_i +- d_i u_i, on each side:
   // kappa_lb |(t_i - t_{i-1}) - r_i|^m with t the unit edge directions (|t_i - t_{i-1}| ~ the
   // angle between them) and r_i their rest difference carried in node i's lateral frame
-  if (klb_ > 0.0) {
+  if (model_.lateral_bend_stiffness > 0.0) {
     for (int side = 0; side < 2; ++side) {
       const double sg = side == 0 ? 1.0 : -1.0;
       const VecX& d = side == 0 ? d_plus_ : d_minus_;
@@ -314,9 +320,9 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
           const Vec3 rv = rl.x() * w_[i] + rl.y() * u_[i] + rl.z() * nrm_[i];
           const Vec3 v = t - t_prev - rv;
           const double vv = v.squaredNorm();
-          E += klb_ * (m == 2.0 ? vv : std::pow(vv, 0.5 * m));
+          E += klb_[i] * (m == 2.0 ? vv : std::pow(vv, 0.5 * m));
           if (gx) {
-            const Vec3 dv = klb_ * (m == 2.0 ? 2.0 : m * std::pow(vv, 0.5 * m - 1.0)) * v;
+            const Vec3 dv = klb_[i] * (m == 2.0 ? 2.0 : m * std::pow(vv, 0.5 * m - 1.0)) * v;
             // dt/de = (I - t t^T) / |e|
             const Vec3 ge = (dv - t * t.dot(dv)) / le;
             const Vec3 gep = -(dv - t_prev * t_prev.dot(dv)) / len_prev;

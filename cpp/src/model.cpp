@@ -54,13 +54,16 @@ const std::vector<ParamSlot>& slots() {
       F("bend_stiffness", "N*mm/rad^m", 1e-6, 1e6, &BrushModel::bend_stiffness,
         "kappa of the bend spring at the root joint"),
       F("stiffness_ratio", "-", 1.0, 1e6, &BrushModel::stiffness_ratio,
-        "root : tip bend stiffness, geometric in between"),
+        "extra root : tip bend stiffness factor, geometric over the joints (1: the hair-count law alone)"),
+      F("stiffness_radius_power", "-", 0.0, 4.0, &BrushModel::stiffness_radius_power,
+        "q: bending stiffness EI(s) ~ rho(s)^q with rho the radius the hairs would fill at s "
+        "(the belly radius above the belly); 2: hairs bend alone, 4: wet hairs bend as one bundle, 0: off"),
       F("twist_stiffness", "-", 0.0, 10.0, &BrushModel::twist_stiffness,
         "twist kappa / bend kappa at the same joint (no twist spring at the root)"),
       F("stretch_stiffness", "N*mm/mm^m", 1e-6, 1e6, &BrushModel::stretch_stiffness,
         "kappa of the stretch springs |delta^2 - S|^m"),
       F("lateral_bend_stiffness", "N*mm", 0.0, 1e6, &BrushModel::lateral_bend_stiffness,
-        "bend springs between consecutive lateral nodes"),
+        "bend springs between consecutive lateral nodes at the root; along the tuft they follow the bend springs' profile"),
       F("spread_gain", "-", 0.0, 5.0, &BrushModel::spread_gain,
         "stretch rest length S at full press (p = 1), as a fraction of r_i"),
       F("spread_bend_gain", "1/rad^2", 0.0, 10.0, &BrushModel::spread_bend_gain,
@@ -168,34 +171,66 @@ Eigen::VectorXd BrushModel::node_arclength() const {
   return s;
 }
 
-Eigen::VectorXd BrushModel::node_radii() const {
+double BrushModel::radius_profile(double t) const {
   // a Chinese brush profile: 0.8 r at the ferrule, swelling to the belly r at belly_position,
-  // then tapering smoothly to tip_radius_fraction * r at the tip
+  // then tapering smoothly to tip_radius_fraction * r at the tip (t = s / L in [0, 1])
+  const double pi = 3.14159265358979323846;
+  double f;
+  if (t <= belly_position) {
+    f = 0.8 + 0.2 * std::sin(0.5 * pi * t / belly_position);
+  } else {
+    const double q = std::cos(0.5 * pi * std::min(t - belly_position, 1.0 - belly_position) /
+                              (1.0 - belly_position));
+    f = tip_radius_fraction + (1.0 - tip_radius_fraction) * std::pow(std::max(q, 0.0), taper_power);
+  }
+  return std::max(f, tip_radius_fraction);
+}
+
+Eigen::VectorXd BrushModel::node_radii() const {
   const Eigen::VectorXd s = node_arclength() / tuft_length;
   Eigen::VectorXd r(n_segments + 1);
-  const double pi = 3.14159265358979323846;
-  for (int i = 0; i <= n_segments; ++i) {
-    const double t = s[i];
-    double f;
-    if (t <= belly_position) {
-      f = 0.8 + 0.2 * std::sin(0.5 * pi * t / belly_position);
-    } else {
-      const double q = std::cos(0.5 * pi * (t - belly_position) / (1.0 - belly_position));
-      f = tip_radius_fraction + (1.0 - tip_radius_fraction) * std::pow(std::max(q, 0.0), taper_power);
-    }
-    r[i] = belly_radius * std::max(f, tip_radius_fraction);
-  }
+  for (int i = 0; i <= n_segments; ++i) r[i] = belly_radius * radius_profile(s[i]);
   return r;
 }
 
-Eigen::VectorXd BrushModel::bend_kappa() const {
-  // root stiffest; kappa_j = kappa_root * ratio^(-j/(n-1)) reaches kappa_root/ratio at the last joint
-  Eigen::VectorXd k(n_segments);
-  for (int j = 0; j < n_segments; ++j)
-    k[j] = bend_stiffness *
-           std::pow(stiffness_ratio, -static_cast<double>(j) / std::max(1, n_segments - 1));
-  return k;
+Eigen::VectorXd BrushModel::stiffness_profile() const {
+  // Hair-count law (seed "Energy Functions": "the brush root is stiffer than the tip").  A tuft
+  // is a bundle of hairs of graded lengths: every hair passes the ferrule and the belly, and the
+  // taper below the belly is hairs ending, so the hair count at s goes as rho(s)^2 with rho = the
+  // belly radius above the belly and the tuft radius r(s) below it (the belly's swelling is
+  // looser packing, not more hairs).  Hairs bending alone give EI(s) ~ rho^2, wet hairs held
+  // together by the ink bend as one bundle, EI(s) ~ rho^4: EI ~ rho^q.  Joint j stands for the
+  // spine from half the segment above it to half the segment below it, and its spring is that
+  // piece's springs in series: kappa_j ~ 1 / mean(1 / EI) (the tip node's own half segment has
+  // no joint; its fine hair points would otherwise make the last spring vanish).  The
+  // thin tail therefore folds easily and lies on the paper while the belly stays straight.
+  // On top, stiffness_ratio adds the seed's empirical root : tip factor, geometric over the
+  // joints.  (n,) dimensionless, 1 at the root joint.
+  const int n = n_segments;
+  const Eigen::VectorXd s = node_arclength() / tuft_length;
+  const double q = stiffness_radius_power;
+  Eigen::VectorXd h(n);
+  constexpr int kSamples = 64;  // midpoint rule
+  for (int j = 0; j < n; ++j) {
+    const double a = j > 0 ? 0.5 * (s[j - 1] + s[j]) : 0.0;
+    const double b = 0.5 * (s[j] + s[j + 1]);
+    double compliance = 0.0;  // mean of (r_belly / rho)^q over [a, b]
+    if (q > 0.0) {
+      for (int k = 0; k < kSamples; ++k) {
+        const double t = a + (b - a) * (k + 0.5) / kSamples;
+        const double rho = t <= belly_position ? 1.0 : radius_profile(t);
+        compliance += std::pow(rho, -q);
+      }
+      compliance /= kSamples;
+    } else {
+      compliance = 1.0;
+    }
+    h[j] = std::pow(stiffness_ratio, -static_cast<double>(j) / std::max(1, n - 1)) / compliance;
+  }
+  return h / h[0];
 }
+
+Eigen::VectorXd BrushModel::bend_kappa() const { return bend_stiffness * stiffness_profile(); }
 
 std::vector<std::string> BrushModel::preset_names() { return {"small", "medium", "large"}; }
 

@@ -131,7 +131,8 @@ class Brush {
 
   // constants of the model (per segment j = 0..n-1 or node i = 0..n)
   VecX len_, r0_, rlat_, kb_, kt_, kpsi_;
-  double ks_ = 0.0, klb_ = 0.0, eta_ = 0.0;
+  VecX klb_;                        // (n+1,) N*mm, lateral bend springs at node i
+  double ks_ = 0.0, eta_ = 0.0;
 
   // state
   VecX x_, x_prev_, rest_;         // (5n,) variables, last frame's, rest shifts rho (angles only)

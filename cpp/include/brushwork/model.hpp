@@ -27,10 +27,11 @@ struct BrushModel {
   // --- strain energy (seed "Energy Functions") ---
   double exponent = 2.0;                // m in kappa |theta|^m
   double bend_stiffness = 3.0;          // N*mm/rad^m, kappa of the bend spring at the root
-  double stiffness_ratio = 20.0;        // root : tip bend stiffness (geometric in between)
-  double twist_stiffness = 0.5;         // twist kappa / bend kappa at the same joint (none at the root)
+  double stiffness_ratio = 10.0;        // extra root : tip factor, geometric over the joints
+  double stiffness_radius_power = 2.0;  // q in EI(s) ~ rho(s)^q, rho the hair-count radius (0: off)
+  double twist_stiffness = 2.0;         // twist kappa / bend kappa at the same joint (none at the root)
   double stretch_stiffness = 2.0;       // N*mm/mm^m, kappa of the stretch spring |delta^2 - S|^m at the belly
-  double lateral_bend_stiffness = 0.5;  // N*mm, bend springs between consecutive lateral nodes
+  double lateral_bend_stiffness = 0.5;  // N*mm, lateral bend springs at the root (scaled like kappa_j)
   double spread_gain = 1.5;             // S at full press, as a fraction of r_i
   double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
 
@@ -39,7 +40,7 @@ struct BrushModel {
   double friction_along = 0.25;         // mu for drag along the hairs
   double friction_side = 0.6;           // mu for drag across the hairs
   double wet_adhesion = 0.02;           // N added to R_i per unit p_i of a wet node
-  double friction_smoothing = 0.01;     // mm, x_i = sqrt(|dx|^2 + eps^2) - eps keeps the friction energy smooth
+  double friction_smoothing = 0.05;     // mm, x_i = sqrt(|dx|^2 + eps^2) - eps keeps the friction energy smooth
 
   // --- plasticity and pore resistance ---
   double plasticity_alpha = 2.0;        // deg, alpha in rho = clamp(theta', -alpha, alpha)
@@ -66,6 +67,8 @@ struct BrushModel {
   Eigen::VectorXd node_radii() const;       // (n+1,) mm, initial tuft radius r_i at spine node N_i
   Eigen::VectorXd node_arclength() const;   // (n+1,) mm, distance from the root along the unbent spine
   Eigen::VectorXd bend_kappa() const;       // (n,) N*mm/rad^m, kappa at joints 0..n-1, root stiffest
+  Eigen::VectorXd stiffness_profile() const;  // (n,) -, kappa_j / kappa_0 (bend and lateral bend springs)
+  double radius_profile(double t) const;    // -, r(t) / belly radius at t = s / L along the unbent spine
 
   static BrushModel preset(const std::string& name);
   static std::vector<std::string> preset_names();
