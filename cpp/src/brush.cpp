@@ -123,6 +123,7 @@ Brush::Brush(const BrushModel& model) : model_(model) {
   c_prev_ = r0_;
   wetness = VecX::Ones(n_ + 1);
   lambda_ = VecX::Zero(mmax_);
+  R_relaxed_ = VecX::Zero(n_);
   save_.x = save_.x_prev = save_.rest = VecX::Zero(nx_);
   save_.lambda = VecX::Zero(mmax_);
 
@@ -169,6 +170,8 @@ void Brush::reset() {
   have_prev_positions_ = false;
   pore_on_prev_ = false;
   lambda_.setZero();
+  R_relaxed_.setZero();
+  p_.setZero();
   c_prev_ = r0_;
   nu_ = 0.0;
   kinematics(x_);
@@ -517,19 +520,30 @@ void Brush::begin_frame(const Pose& pose) {
   double h_above = rest_low(0);
   for (int i = 1; i <= n_; ++i) {
     const double h = rest_low(i);
-    if (h_above < 0 && h < 0) p_[i] = 1.0;
-    else if (h_above >= 0 && h >= 0) p_[i] = 0.0;
-    else p_[i] = (h < 0 ? -h : -h_above) / std::abs(h - h_above);
+    double p_new;
+    if (h_above < 0 && h < 0) p_new = 1.0;
+    else if (h_above >= 0 && h >= 0) p_new = 0.0;
+    else p_new = (h < 0 ? -h : -h_above) / std::abs(h - h_above);
     h_above = h;
+    // p_i is lagged like R_i (it comes from the first iterate, last frame's shape) and relaxed
+    // the same way: p high spreads the section, the spread tuft lifts, p falls, and without
+    // relaxation the footprint flips between two sizes every other frame
+    p_[i] += model_.contact_relaxation * (p_new - p_[i]);
 
     const double rsp = c_prev_[i], rl = model_.lateral_radius_fraction * c_prev_[i];
     const bool touch[3] = {O_[i].z() - rsp < 0.0,
                            (O_[i] + d_plus_[i] * u_[i]).z() - rl < 0.0,
                            (O_[i] - d_minus_[i] * u_[i]).z() - rl < 0.0};
     const int count = touch[0] + touch[1] + touch[2];
-    // normal reaction R: last frame's contact force on this section plus wet adhesion
+    // normal reaction R: last frame's contact force on this section (the seed's lagged force),
+    // relaxed R <- R + omega (lambda - R): with omega = 1 a large force makes the tip stick, the
+    // stuck tip unloads the section, the small force lets it slip, and the footprint flips
+    // between two sizes every other frame (a period-2 cycle of the lagged iteration); omega
+    // 1/2 damps it.  Plus wet adhesion.
     const double lam = (model_.collision && i - 1 < lambda_.size()) ? std::max(lambda_[i - 1], 0.0) : 0.0;
-    const double total = lam + model_.wet_adhesion * p_[i] * std::clamp(wetness[i], 0.0, 1.0);
+    double& Rr = R_relaxed_[i - 1];
+    Rr += model_.contact_relaxation * (lam - Rr);
+    const double total = Rr + model_.wet_adhesion * p_[i] * std::clamp(wetness[i], 0.0, 1.0);
     for (int k = 0; k < 3; ++k) R_[3 * i + k] = (touch[k] && count > 0) ? total / count : 0.0;
     contacts_ += count;
     if (i == n_ && count > 0) tip_touch = true;

@@ -76,6 +76,9 @@ const std::vector<ParamSlot>& slots() {
         "external friction mu for drag across the hairs"),
       F("wet_adhesion", "N", 0.0, 10.0, &BrushModel::wet_adhesion,
         "added to R_i per unit p_i of a wet node (friction with zero normal force)"),
+      F("contact_relaxation", "-", 0.01, 1.0, &BrushModel::contact_relaxation,
+        "omega: the normal reaction R_i of the friction moves this fraction of the way to last "
+        "frame's contact force each frame (1: the seed's lagged force; below 1 damps stick-slip)"),
       F("friction_smoothing", "mm", 1e-6, 1.0, &BrushModel::friction_smoothing,
         "eps in x_i = sqrt(|dx|^2 + eps^2) - eps (keeps the friction energy smooth)"),
       F("plasticity_alpha", "deg", 0.0, 90.0, &BrushModel::plasticity_alpha,

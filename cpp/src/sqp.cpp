@@ -222,12 +222,21 @@ StepStats Brush::step(const Pose& pose) {
     f(save_.pore_anchor, pore_anchor_), f(save_.m, m_);
   };
   each_pair([](auto& saved, const auto& live) { saved = live; });
+  // a touching brush whose root jumps more than L/4 in one frame is also split: q_max
+  // iterations cannot carry a bent tuft that far, and the unconverged state floats above the
+  // paper (a drag of 20 belly radii a frame lost contact and broke the stroke)
+  const double step_travel = 0.25 * model_.tuft_length;
+  const double travel = (pose.position - pose_.position).norm();
+  const int travel_steps = (have_prev_positions_ && stats_.contacts > 0 && travel > step_travel)
+                               ? std::min(32, static_cast<int>(std::ceil(travel / step_travel)))
+                               : 1;
   begin_frame(pose);
   if (model_.collision) {
     const double pen = std::max(0.0, -section_heights().minCoeff());
     const double step_pen = 0.02 * model_.tuft_length;
-    if (pen > step_pen) {
-      substeps = std::min(32, static_cast<int>(std::ceil(pen / step_pen)));
+    const int pen_steps = pen > step_pen ? std::min(32, static_cast<int>(std::ceil(pen / step_pen))) : 1;
+    if (std::max(pen_steps, travel_steps) > 1) {
+      substeps = std::max(pen_steps, travel_steps);
       each_pair([](const auto& saved, auto& live) { live = saved; });
       // a fresh (or reset) brush has no last pose: it comes down from straight above
       if (!have_prev_positions_) {

@@ -146,6 +146,7 @@ class Brush {
   bool same_pose_ = false;         // this frame's pose equals the last one (sleep rule)
   double nu_ = 1.0;
   VecX lambda_;                    // (mmax,) multipliers of the last QP
+  VecX R_relaxed_;                 // (n,) N, the relaxed normal reaction of sections 1..n
   VecX c_prev_;                    // (n+1,) minor radius c_i at the end of the last frame (r_sp)
 
   // frozen frame data (first iterate)

@@ -36,10 +36,11 @@ struct BrushModel {
   double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
 
   // --- dissipation ---
-  double internal_friction = 0.3;       // internal-friction kappa / spring kappa (same form, on the change since last frame)
+  double internal_friction = 0.05;      // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame
   double friction_along = 0.25;         // mu for drag along the hairs
   double friction_side = 0.6;           // mu for drag across the hairs
   double wet_adhesion = 0.02;           // N added to R_i per unit p_i of a wet node
+  double contact_relaxation = 0.5;      // omega: R_i moves this fraction of the way to last frame's force
   double friction_smoothing = 0.05;     // mm, x_i = sqrt(|dx|^2 + eps^2) - eps keeps the friction energy smooth
 
   // --- plasticity and pore resistance ---

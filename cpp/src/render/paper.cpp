@@ -27,7 +27,7 @@ struct PaperTile {
 class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
-  GLint u_t = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
+  GLint u_t = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
   GLint u_dry_param = -1, u_grain_scale = -1;
 };
@@ -174,6 +174,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   fp.prog = glu::program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
   const GLuint p = fp.prog;
   fp.u_t = glu::uniform(p, "u_t");
+  fp.u_shift = glu::uniform(p, "u_shift");
   fp.u_view = glu::uniform(p, "u_view");
   fp.u_soak = glu::uniform(p, "u_soak");
   fp.u_nodes = glu::uniform(p, "u_nodes");
@@ -428,6 +429,23 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;  // mm, whole sweep
   double cx0 = 1e300, cy0 = 1e300, cx1 = -1e300, cy1 = -1e300;  // mm, this frame's part below
   double travel = 0.0;                                           // mm
+  // depth-weighted centres of the parts below the paper, last deposit and this one (mm)
+  double wp = 0.0, wc = 0.0, pcx = 0.0, pcy = 0.0, ccx = 0.0, ccy = 0.0;
+  for (int v = 0; v < V; ++v) {
+    const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
+    if (zc < 0.0) {
+      wc -= zc;
+      ccx -= zc * placed(cur.position, cur.center, v, 0);
+      ccy -= zc * placed(cur.position, cur.center, v, 1);
+    }
+    if (zp < 0.0) {
+      wp -= zp;
+      pcx -= zp * placed(prev, prev_c, v, 0);
+      pcy -= zp * placed(prev, prev_c, v, 1);
+    }
+  }
+  const bool both = wp > 0.0 && wc > 0.0;
+  const double shift_x = both ? ccx / wc - pcx / wp : 0.0, shift_y = both ? ccy / wc - pcy / wp : 0.0;
   for (int v = 0; v < V; ++v) {
     if (!used[v]) continue;
     const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
@@ -444,10 +462,12 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     }
     travel = std::max(travel, std::hypot(x - px, y - py));
   }
-  const Rect rect = intersect({static_cast<int>(std::floor(bx0 * ppm_)) - 2,
-                               static_cast<int>(std::floor(by0 * ppm_)) - 2,
-                               static_cast<int>(std::ceil(bx1 * ppm_)) + 2,
-                               static_cast<int>(std::ceil(by1 * ppm_)) + 2},
+  // (the slid surfaces reach at most |shift| beyond the two surfaces' bounds)
+  const double pad = std::hypot(shift_x, shift_y);
+  const Rect rect = intersect({static_cast<int>(std::floor((bx0 - pad) * ppm_)) - 2,
+                               static_cast<int>(std::floor((by0 - pad) * ppm_)) - 2,
+                               static_cast<int>(std::ceil((bx1 + pad) * ppm_)) + 2,
+                               static_cast<int>(std::ceil((by1 + pad) * ppm_)) + 2},
                               {0, 0, W_, H_});
   stats.rect = empty(rect) ? Rect{0, 0, 0, 0} : rect;
 
@@ -536,9 +556,23 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       gl::Scissor(x, y, w, h);
       gl::Uniform4f(fp.u_view, static_cast<float>(t.x0 / ppm_), static_cast<float>(t.y0 / ppm_),
                     static_cast<float>(2.0 * ppm_ / t.w), static_cast<float>(2.0 * ppm_ / t.h));
-      for (int k = 1; k <= K; ++k) {
-        gl::Uniform1f(fp.u_t, static_cast<float>(k) / K);
+      // three sweeps of the K sub-steps: the surface blended from the last deposit to this one
+      // (right for a tuft that turns or bends on the way), and each of the two surfaces slid
+      // rigidly along the move of the footprint's centre toward the other (so that a tuft whose
+      // shape changes a lot between frames still leaves one unbroken band: the blend alone
+      // lifts off the paper halfway between a pressed blob and a thin trailing tip)
+      const auto draw = [&](float t, float sx, float sy) {
+        gl::Uniform1f(fp.u_t, t);
+        gl::Uniform2f(fp.u_shift, sx, sy);
         gl::DrawElements(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr);
+      };
+      for (int k = 1; k <= K; ++k) {
+        const float t = static_cast<float>(k) / K;
+        draw(t, 0.0f, 0.0f);
+        if (both) {
+          draw(0.0f, static_cast<float>(t * shift_x), static_cast<float>(t * shift_y));
+          draw(1.0f, static_cast<float>((t - 1.0f) * shift_x), static_cast<float>((t - 1.0f) * shift_y));
+        }
       }
     });
     gl::Disable(GL_SCISSOR_TEST);

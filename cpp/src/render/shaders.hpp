@@ -14,9 +14,10 @@ layout(location = 1) in vec3 a_cur;
 layout(location = 2) in vec3 a_center_prev;
 layout(location = 3) in vec3 a_center_cur;
 layout(location = 4) in vec2 a_uv;
-uniform float u_t;     // sweep parameter
-uniform vec4 u_view;   // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
-uniform float u_soak;  // soak_expand * excess moisture
+uniform float u_t;      // blend between the last deposit's surface (0) and this one's (1)
+uniform vec2 u_shift;   // mm, added on the paper (the translated sweeps, see Paper::deposit)
+uniform vec4 u_view;    // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
+uniform float u_soak;   // soak_expand * excess moisture
 out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
@@ -27,6 +28,7 @@ void main() {
   vec3 c = mix(a_center_prev, a_center_cur, u_t);
   p = c + (p - c) * (1.0 + u_soak * smoothstep(0.5, 1.0, a_uv.x));
 #endif
+  p.xy += u_shift;
   v_uv = a_uv;
   v_z = p.z;
   v_mm = p.xy;
