@@ -57,6 +57,7 @@ What a scene uses; what it does not use is not computed and not compiled into th
       .def_readwrite("soak_expand", &SceneFeatures::soak_expand)
       .def_readwrite("soak_shift", &SceneFeatures::soak_shift)
       .def_readwrite("soak_drain_mm", &SceneFeatures::soak_drain_mm)
+      .def_readwrite("capillary", &SceneFeatures::capillary)
       .def_readwrite("seed", &SceneFeatures::seed)
       .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
       .def_readwrite("mesh_around", &SceneFeatures::mesh_around)

@@ -51,28 +51,28 @@ def _arc(cx, cy, r, a0, a1, k=12):
 def samples() -> list[Sample]:
     """The panels of Figure 11 (the seed skips a panel (g); so do we)."""
     rise = lambda k, top: np.concatenate([np.linspace(0.0, top, 2), np.full(k - 4, top), np.linspace(top, 0.0, 2)])
+    petal = np.array([0.0, 0.12, 0.25, 0.32, 0.3, 0.2, 0.08, -0.02])
+    wave_x = np.linspace(22.0, 64.0, 15)
+    wave = np.stack([wave_x, 26.0 + 7.0 * np.sin((wave_x - 22.0) / 42.0 * 2.0 * np.pi)], axis=1)
     return [
-        Sample("a", "central tip", [(_line(10, 25, 60, 25), rise(6, 0.28), 4.0, None)]),
-        Sample("b", "pushed", [(_line(60, 25, 10, 25), rise(6, 0.22), 25.0, 0.0)],
+        Sample("a", "central tip", [(_line(32, 25, 68, 25), rise(6, 0.28), 4.0, None)]),
+        Sample("b", "pushed", [(_line(52, 25, 12, 25), rise(6, 0.22), 25.0, 0.0)],
                notes="the handle leans back against the travel: the tip is pushed and splits"),
-        Sample("c", "biased tip", [(_line(10, 25, 60, 25), rise(6, 0.25), 40.0, 90.0)]),
-        Sample("d", "blade-like", [(_line(8, 32, 62, 18, 8),
+        Sample("c", "biased tip", [(_line(16, 30, 58, 30), rise(6, 0.25), 40.0, 90.0)]),
+        Sample("d", "blade-like", [(_line(22, 32, 64, 18, 8),
                                      np.array([0.0, 0.32, 0.32, 0.26, 0.18, 0.1, 0.03, -0.02]), 15.0, None)],
                excess=1.0, notes="pressed, then lifted while moving: a blade-like end"),
-        Sample("e", "dry rubbing", [(_line(10, 25, 60, 25), rise(6, 0.3), 50.0, 90.0)],
+        Sample("e", "dry rubbing", [(_line(14, 30, 58, 30), rise(6, 0.3), 50.0, 90.0)],
                ink_fraction=0.12),
-        Sample("f", "gradient petals", [
-            (_arc(35, 8, 22, 150, 95, 8), np.array([0.0, 0.12, 0.25, 0.32, 0.3, 0.2, 0.08, -0.02]), 20.0, None),
-            (_arc(35, 8, 22, 30, 85, 8), np.array([0.0, 0.12, 0.25, 0.32, 0.3, 0.2, 0.08, -0.02]), 20.0, None)],
+        Sample("f", "gradient petals", [(_arc(35, 6, 24, 150, 98, 8), petal, 20.0, None),
+                                        (_arc(35, 6, 24, 30, 82, 8), petal, 20.0, None)],
                ramp=[(0.95, 0.85, 0.88, 0.7), (0.85, 0.25, 0.45, 1.0), (0.55, 0.05, 0.2, 1.0)]),
-        Sample("h", "flattened brush", [(_line(35, 8, 35, 42), rise(6, 0.2), 10.0, 0.0)],
+        Sample("h", "flattened brush", [(_line(35, 10, 35, 44), rise(6, 0.2), 10.0, 0.0)],
                flatten=0.45, notes="pressed hard straight down first: plasticity keeps it flat"),
-        Sample("i", "dots", [(_line(x, 30, x + 4, 26, 4), np.array([0.0, 0.25, 0.3, -0.02]), 30.0, None)
-                             for x in (14, 31, 48)]),
-        Sample("j", "drying brush", [(np.concatenate([_line(8, 38, 62, 38), _line(62, 38, 8, 25)[1:],
-                                                      _line(8, 25, 62, 12)[1:]]),
-                                      0.26 * np.ones(16), 20.0, None)],
-               ink_total_mm2=700.0, notes="ink depletes: streaks open as the brush dries"),
+        Sample("i", "dots", [(_line(x, 30, x + 3, 27, 4), np.array([0.0, 0.18, 0.22, -0.02]), 30.0, None)
+                             for x in (20, 40, 60)]),
+        Sample("j", "drying brush", [(wave, 0.26 * np.ones(len(wave)), 20.0, None)],
+               ink_total_mm2=450.0, notes="ink depletes: streaks open as the brush dries"),
     ]
 
 

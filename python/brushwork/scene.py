@@ -21,6 +21,7 @@ PARAMETERS = {
     "soak_expand": ("-", "radial growth of a soaked tip at full excess moisture"),
     "soak_shift": ("-", "split map scaled toward the tip at full excess moisture"),
     "soak_drain_mm": ("mm", "travel in contact over which excess moisture falls by 1/e"),
+    "capillary": ("-", "depletion: per frame, each node's wetness moves this far toward the tuft's mean"),
     "seed": ("-", "seed of the procedural split, dry and grain maps"),
     "mesh_rings": ("-", "rings per spine segment of the swept surface"),
     "mesh_around": ("-", "vertices around one ring"),

@@ -81,6 +81,8 @@ struct SceneFeatures {
   double soak_expand = 0.25;    // radial growth of the tip at full excess moisture (fraction)
   double soak_shift = 0.35;     // split map scaled toward the tip at full excess moisture
   double soak_drain_mm = 40.0;  // travel in contact over which excess moisture falls by 1/e
+  double capillary = 0.2;       // depletion: fraction of the way each node's wetness moves
+                                // toward the tuft's mean per frame (ink flows to the tip)
   std::uint32_t seed = 1;       // procedural maps (split, dry, grain)
   int mesh_rings = 6;           // rings per spine segment of the swept surface
   int mesh_around = 48;         // vertices around one ring

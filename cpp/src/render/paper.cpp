@@ -75,6 +75,7 @@ void SceneFeatures::validate() const {
   if (!std::isfinite(soak_expand) || soak_expand < 0 || soak_expand > 2)
     throw std::invalid_argument("scene.soak_expand = " + std::to_string(soak_expand) + ": expected 0..2");
   in01("soak_shift", soak_shift, false);
+  in01("capillary", capillary, false);
   if (mesh_rings < 1 || mesh_rings > 64)
     throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
   if (mesh_around < 8 || mesh_around > 512)
@@ -430,20 +431,31 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   double cx0 = 1e300, cy0 = 1e300, cx1 = -1e300, cy1 = -1e300;  // mm, this frame's part below
   double travel = 0.0;                                           // mm
   // depth-weighted centres of the parts below the paper, last deposit and this one (mm)
+  // and the pixel extents of those parts (x0, y0, x1, y1 mm)
   double wp = 0.0, wc = 0.0, pcx = 0.0, pcy = 0.0, ccx = 0.0, ccy = 0.0;
+  double pb[4] = {1e300, 1e300, -1e300, -1e300}, cb[4] = {1e300, 1e300, -1e300, -1e300};
+  auto grow = [](double* b, double x, double y) {
+    b[0] = std::min(b[0], x), b[1] = std::min(b[1], y), b[2] = std::max(b[2], x), b[3] = std::max(b[3], y);
+  };
   for (int v = 0; v < V; ++v) {
     const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
     if (zc < 0.0) {
+      const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
       wc -= zc;
-      ccx -= zc * placed(cur.position, cur.center, v, 0);
-      ccy -= zc * placed(cur.position, cur.center, v, 1);
+      ccx -= zc * x;
+      ccy -= zc * y;
+      grow(cb, x, y);
     }
     if (zp < 0.0) {
+      const double x = placed(prev, prev_c, v, 0), y = placed(prev, prev_c, v, 1);
       wp -= zp;
-      pcx -= zp * placed(prev, prev_c, v, 0);
-      pcy -= zp * placed(prev, prev_c, v, 1);
+      pcx -= zp * x;
+      pcy -= zp * y;
+      grow(pb, x, y);
     }
   }
+  const double small_side_px =
+      ppm_ * std::min(std::min(pb[2] - pb[0], pb[3] - pb[1]), std::min(cb[2] - cb[0], cb[3] - cb[1]));
   const bool both = wp > 0.0 && wc > 0.0;
   const double shift_x = both ? ccx / wc - pcx / wp : 0.0, shift_y = both ? ccy / wc - pcy / wp : 0.0;
   for (int v = 0; v < V; ++v) {
@@ -473,7 +485,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
 
   // sub-steps of the sweep: close enough that consecutive footprints overlap and the
   // scallops between them stay under a quarter pixel (a disc of radius r spaced d apart
-  // leaves scallops d^2 / 8r deep)
+  // leaves scallops d^2 / 8r deep); r from the smaller side of this frame's part below
   const double r_px = 0.5 * std::max(0.0, std::min(cx1 - cx0, cy1 - cy0)) * ppm_;
   const double spacing = std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
   const int K = continues ? std::clamp(static_cast<int>(std::ceil(travel * ppm_ / spacing)), 1, 4096) : 1;
@@ -556,11 +568,12 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       gl::Scissor(x, y, w, h);
       gl::Uniform4f(fp.u_view, static_cast<float>(t.x0 / ppm_), static_cast<float>(t.y0 / ppm_),
                     static_cast<float>(2.0 * ppm_ / t.w), static_cast<float>(2.0 * ppm_ / t.h));
-      // three sweeps of the K sub-steps: the surface blended from the last deposit to this one
-      // (right for a tuft that turns or bends on the way), and each of the two surfaces slid
-      // rigidly along the move of the footprint's centre toward the other (so that a tuft whose
-      // shape changes a lot between frames still leaves one unbroken band: the blend alone
-      // lifts off the paper halfway between a pressed blob and a thin trailing tip)
+      // two sweeps of the K sub-steps: the surface blended from the last deposit to this one
+      // (right for a tuft that turns or bends on the way), and the smaller of the two parts
+      // below the paper slid rigidly along the move of the footprint's centre toward the other
+      // (so that a tuft whose shape changes a lot between frames still leaves one unbroken
+      // band: the blend alone lifts off the paper halfway between a pressed blob and a thin
+      // trailing tip; sliding the larger part would smear a blob into a bar)
       const auto draw = [&](float t, float sx, float sy) {
         gl::Uniform1f(fp.u_t, t);
         gl::Uniform2f(fp.u_shift, sx, sy);
@@ -569,10 +582,12 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       for (int k = 1; k <= K; ++k) {
         const float t = static_cast<float>(k) / K;
         draw(t, 0.0f, 0.0f);
-        if (both) {
+        // (a part under 3 px across would slide as a dotted hairline: then slide both)
+        const bool slide_both = small_side_px < 3.0;
+        if (both && (wp <= wc || slide_both))
           draw(0.0f, static_cast<float>(t * shift_x), static_cast<float>(t * shift_y));
+        if (both && (wp > wc || slide_both))
           draw(1.0f, static_cast<float>((t - 1.0f) * shift_x), static_cast<float>((t - 1.0f) * shift_y));
-        }
       }
     });
     gl::Disable(GL_SCISSOR_TEST);
@@ -604,6 +619,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
         remaining -= taken;
       }
       ink->deposited += gained;
+      // capillary flow inside the tuft: every node's wetness relaxes toward the tuft's mean by
+      // the fraction `capillary` per frame; sum(load) is unchanged (load_i += b (w_mean cap_i -
+      // load_i) sums to zero), so conservation holds
+      const double w_mean = ink->load.sum() / ink->capacity.sum();
+      ink->load += scene_.capillary * (w_mean * ink->capacity - ink->load);
       for (int i = 0; i < nodes; ++i) brush.wetness[i] = std::clamp(ink->load[i] / ink->capacity[i], 0.0, 1.0);
     }
     stroke_rect_ = unite(stroke_rect_, rect);
