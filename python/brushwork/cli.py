@@ -75,6 +75,26 @@ def _render(args: argparse.Namespace) -> int:
     return 0
 
 
+def _footprint_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+
+
+def _footprint(args: argparse.Namespace) -> int:
+    from . import BrushModel
+    from .bench import footprint, report
+
+    if args.preset not in BrushModel.presets():
+        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
+    if args.json:
+        report.check_writable(args.json)
+    result = footprint.run(args.preset, progress=lambda msg: print(f"  {msg}", file=sys.stderr))
+    print(footprint.table(result))
+    if args.json:
+        report.write_json(args.json, {"benchmark": "footprint", **result})
+    return 0
+
+
 # benchmarks not written yet: accept anything, say so, exit 2
 def _pending_args(p: argparse.ArgumentParser) -> None:
     p.set_defaults(accepts_extra=True)
@@ -129,6 +149,7 @@ def _gallery(args: argparse.Namespace) -> int:
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
     "solver": ("solver speed, carried vs fresh Hessian", _solver_args, _solver),
+    "footprint": ("footprint area and width against press depth and tilt", _footprint_args, _footprint),
     "render": ("deposit cost per frame, minimal vs full scene", _render_args, _render),
     "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
     "precision": ("(not implemented yet)", _pending_args, _pending("bench precision")),

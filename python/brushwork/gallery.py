@@ -15,7 +15,7 @@ import numpy as np
 
 from .brush import Brush
 from .motions import along_path
-from .paper import Paper
+from .paper import Paper, write_png
 from .scene import Scene
 
 CELL_W, CELL_H = 70.0, 50.0   # mm per panel
@@ -128,27 +128,4 @@ def render_gallery(path: str | os.PathLike, px_per_mm: float = 10.0, progress=No
                       (200, 200, 200), max(1, int(scale)))
         cv2.putText(img, f"({sample.key}) {sample.title}", (x0 + int(12 * scale), y0 + int(34 * scale)),
                     cv2.FONT_HERSHEY_SIMPLEX, 0.9 * scale, (90, 90, 90), max(1, int(2 * scale)), cv2.LINE_AA)
-    return _write_png(path, img)
-
-
-def _write_png(path, img) -> str:
-    import tempfile
-
-    import cv2
-
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise ValueError(f"{path}: folder {folder} does not exist")
-    ok, data = cv2.imencode(".png", img)
-    if not ok:
-        raise RuntimeError(f"{path}: PNG encoding failed")
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder, prefix=".brushwork-")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data.tobytes())
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path
+    return write_png(path, img)

@@ -24,6 +24,36 @@ def _image_io():
     return cv2
 
 
+def _publish(tmp: str) -> None:
+    """Give a temporary file (mkstemp makes it 0600) the mode a plain open() would: 0666 - umask."""
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+
+
+def write_png(path: str | os.PathLike, bgr: np.ndarray) -> str:
+    """Encode `bgr` (OpenCV channel order, uint8 or uint16) as PNG and put it at `path`
+    atomically (a temporary file in the same folder, then a rename). Returns the path."""
+    cv2 = _image_io()
+    path = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise ValueError(f"{path}: folder {folder} does not exist")
+    ok, data = cv2.imencode(".png", bgr)
+    if not ok:
+        raise RuntimeError(f"{path}: PNG encoding failed")
+    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder, prefix=".brushwork-")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data.tobytes())
+        _publish(tmp)
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return path
+
+
 def render_info() -> dict:
     """Which EGL path rendering takes (backend, device, GL renderer); opens the context."""
     return _core.RenderContext.acquire().info
@@ -70,25 +100,9 @@ class Paper(_core.Paper):
         """Write a PNG (8- or 16-bit, ink on white or on transparency); atomic: a reader never
         sees a partial file. Returns the path."""
         cv2 = _image_io()
-        path = os.fspath(path)
         img = self.image(bits, background)
         bgr = cv2.cvtColor(img, cv2.COLOR_RGB2BGR if img.shape[2] == 3 else cv2.COLOR_RGBA2BGRA)
-        folder = os.path.dirname(os.path.abspath(path))
-        if not os.path.isdir(folder):
-            raise ValueError(f"{path}: folder {folder} does not exist")
-        fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder, prefix=".brushwork-")
-        os.close(fd)
-        try:
-            ok, data = cv2.imencode(".png", bgr)
-            if not ok:
-                raise RuntimeError(f"{path}: PNG encoding failed")
-            with open(tmp, "wb") as f:
-                f.write(data.tobytes())
-            os.replace(tmp, path)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-        return path
+        return write_png(path, bgr)
 
     def load(self, path: str | os.PathLike) -> None:
         """Replace the paper by a PNG of the same pixel size. An image with alpha is taken as

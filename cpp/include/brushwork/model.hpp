@@ -36,7 +36,7 @@ struct BrushModel {
   double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
 
   // --- dissipation ---
-  double internal_friction = 0.05;      // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame
+  double internal_friction = 0.1;       // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame
   double friction_along = 0.25;         // mu for drag along the hairs
   double friction_side = 0.6;           // mu for drag across the hairs
   double wet_adhesion = 0.02;           // N added to R_i per unit p_i of a wet node

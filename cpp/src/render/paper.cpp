@@ -454,9 +454,14 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       grow(pb, x, y);
     }
   }
-  const double small_side_px =
-      ppm_ * std::min(std::min(pb[2] - pb[0], pb[3] - pb[1]), std::min(cb[2] - cb[0], cb[3] - cb[1]));
-  const bool both = wp > 0.0 && wc > 0.0;
+
+  // the slides are needed only where the blend can break: the two parts differ a lot in size,
+  // or the centre moves more than half the smaller part's narrower side
+  const double pside = std::min(pb[2] - pb[0], pb[3] - pb[1]), cside = std::min(cb[2] - cb[0], cb[3] - cb[1]);
+  const bool both_below = wp > 0.0 && wc > 0.0;
+  const double move_mm = both_below ? std::hypot(ccx / wc - pcx / wp, ccy / wc - pcy / wp) : 0.0;
+  const bool both = both_below && (std::min(wp, wc) < 0.5 * std::max(wp, wc) ||
+                                   move_mm > 0.5 * std::min(pside, cside));
   const double shift_x = both ? ccx / wc - pcx / wp : 0.0, shift_y = both ? ccy / wc - pcy / wp : 0.0;
   for (int v = 0; v < V; ++v) {
     if (!used[v]) continue;
@@ -568,26 +573,29 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       gl::Scissor(x, y, w, h);
       gl::Uniform4f(fp.u_view, static_cast<float>(t.x0 / ppm_), static_cast<float>(t.y0 / ppm_),
                     static_cast<float>(2.0 * ppm_ / t.w), static_cast<float>(2.0 * ppm_ / t.h));
-      // two sweeps of the K sub-steps: the surface blended from the last deposit to this one
-      // (right for a tuft that turns or bends on the way), and the smaller of the two parts
-      // below the paper slid rigidly along the move of the footprint's centre toward the other
-      // (so that a tuft whose shape changes a lot between frames still leaves one unbroken
-      // band: the blend alone lifts off the paper halfway between a pressed blob and a thin
-      // trailing tip; sliding the larger part would smear a blob into a bar)
+      // the sweep between the last deposit and this one: the surface blended from one to the
+      // other over K sub-steps (right for a tuft that turns or bends on the way), and each of
+      // the two parts below the paper slid rigidly along the move of the footprint's centre
+      // toward the other (so that a tuft whose shape changes a lot between frames still
+      // leaves one unbroken band: the blend alone lifts off the paper halfway between a
+      // pressed blob and a thin trailing tip).  The price: where the shape changes abruptly
+      // the slid blob paints a little more than the brush touched.
       const auto draw = [&](float t, float sx, float sy) {
         gl::Uniform1f(fp.u_t, t);
         gl::Uniform2f(fp.u_shift, sx, sy);
         gl::DrawElements(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr);
       };
-      for (int k = 1; k <= K; ++k) {
-        const float t = static_cast<float>(k) / K;
-        draw(t, 0.0f, 0.0f);
-        // (a part under 3 px across would slide as a dotted hairline: then slide both)
-        const bool slide_both = small_side_px < 3.0;
-        if (both && (wp <= wc || slide_both))
+      for (int k = 1; k <= K; ++k) draw(static_cast<float>(k) / K, 0.0f, 0.0f);
+      if (both) {
+        // each part slid along the move of the footprint's centre toward the other, one copy per
+        // 0.75 px of the move so that even a thin sliver leaves an unbroken band
+        const double move_px = std::hypot(shift_x, shift_y) * ppm_;
+        const int Ks = std::clamp(static_cast<int>(std::ceil(move_px / 0.75)), 1, 4096);
+        for (int k = 1; k <= Ks; ++k) {
+          const float t = static_cast<float>(k) / Ks;
           draw(0.0f, static_cast<float>(t * shift_x), static_cast<float>(t * shift_y));
-        if (both && (wp > wc || slide_both))
           draw(1.0f, static_cast<float>((t - 1.0f) * shift_x), static_cast<float>((t - 1.0f) * shift_y));
+        }
       }
     });
     gl::Disable(GL_SCISSOR_TEST);

@@ -1,0 +1,73 @@
+"""Footprint under pressure: area and width of the footprint against press depth and tilt,
+static and dragged (the figures behind the README's "Footprint under pressure" table).
+
+A brush is lowered at the origin to `depth` L below first contact over 40 frames and held 5
+frames ("static"); the "dragged" figure is the mean over frames 31-40 of a drag along +x at
+0.02 L per frame with the handle leaning toward +x (the tip trails).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..brush import Brush, Pose
+from .. import BrushModel
+
+DEPTHS = (0.05, 0.1, 0.2, 0.3, 0.4)
+TILTS = (0.0, 15.0, 30.0)
+
+
+def _measure(brush: Brush) -> tuple[float, float]:
+    loops = brush.footprint()
+    if not loops:
+        return 0.0, 0.0
+    pts = np.vstack(loops)                          # (k, 2) mm
+    return brush.footprint_area(), float(np.ptp(pts[:, 1]))   # mm^2, width across +x in mm
+
+
+def measure(model: BrushModel, tilt: float, depth: float, drag_frames: int = 0) -> tuple[float, float]:
+    """(area mm^2, width mm) static, or the mean over the last 10 of `drag_frames`."""
+    b = Brush(model)
+    L = model.tuft_length
+    zc = L * math.cos(math.radians(tilt))
+    z0, z1 = zc + 0.05 * L, zc - depth * L
+    for k in range(40):
+        b.step(Pose((0.0, 0.0, z0 + (z1 - z0) * (k + 1) / 40), tilt, 0.0))
+    for _ in range(5):
+        b.step(Pose((0.0, 0.0, z1), tilt, 0.0))
+    if not drag_frames:
+        return _measure(b)
+    rec = []
+    for k in range(drag_frames):
+        b.step(Pose((0.02 * L * (k + 1), 0.0, z1), tilt, 0.0))
+        if k >= drag_frames - 10:
+            rec.append(_measure(b))
+    a, w = np.mean(rec, axis=0)
+    return float(a), float(w)
+
+
+def run(preset: str = "medium", progress=None) -> dict:
+    """Rows {tilt, motion, depth_<d>: "area / width"} plus the raw numbers."""
+    model = BrushModel.preset(preset)
+    rows, raw = [], []
+    for tilt in TILTS:
+        for motion, frames in (("static", 0), ("dragged", 40)):
+            row = {"tilt": f"{tilt:g}°", "motion": motion}
+            for d in DEPTHS:
+                a, w = measure(model, tilt, d, frames)
+                row[f"{d:g} L"] = f"{a:.1f} / {w:.1f}"
+                raw.append({"tilt_deg": tilt, "motion": motion, "depth_L": d, "area_mm2": a, "width_mm": w})
+            rows.append(row)
+            if progress:
+                progress(f"tilt {tilt:g}, {motion}")
+    return {"preset": preset, "rows": rows, "raw": raw}
+
+
+def table(result: dict) -> str:
+    from .report import markdown_table
+
+    cols = ["tilt", "motion"] + [f"{d:g} L" for d in DEPTHS]
+    return (markdown_table(result["rows"], cols) +
+            f"\n\n{result['preset']} brush: footprint area (mm²) / width across the travel (mm) "
+            "against the press depth below first contact")
