@@ -40,3 +40,17 @@ def test_bench_render_prints_and_writes_both_scenes(tmp_path, capsys):
     assert scenes["minimal"]["features"] == "none"
     assert all(np.isfinite(row["fps"]) and row["fps"] > 0 for row in result["rows"])
     assert "frames/s" in capsys.readouterr().out
+
+
+def test_bench_footprint_and_params(tmp_path, capsys):
+    out = tmp_path / "fp.json"
+    assert cli.main(["bench", "footprint", "--json", str(out)]) == 0
+    result = json.loads(out.read_text())
+    assert len(result["rows"]) == 6 and len(result["raw"]) == 30
+    # deeper presses of an upright brush leave more ink
+    upright = [r["area_mm2"] for r in result["raw"] if r["tilt_deg"] == 0 and r["motion"] == "static"]
+    assert upright == sorted(upright)
+    assert 0.0 <= result["flicker_15deg_025L"] < 10.0
+    assert cli.main(["bench", "footprint", "--set", "nope=1"]) == 2
+    assert cli.main(["params", "--preset", "small"]) == 0
+    assert "`tuft_length` | mm" in capsys.readouterr().out

@@ -78,6 +78,8 @@ def _render(args: argparse.Namespace) -> int:
 def _footprint_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
     p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+    p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
+                   help="override a model field, e.g. --set internal_friction=0.3 (repeatable)")
 
 
 def _footprint(args: argparse.Namespace) -> int:
@@ -88,7 +90,18 @@ def _footprint(args: argparse.Namespace) -> int:
         raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
     if args.json:
         report.check_writable(args.json)
-    result = footprint.run(args.preset, progress=lambda msg: print(f"  {msg}", file=sys.stderr))
+    settings = {}
+    for item in args.set:
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--set {item!r}: expected NAME=VALUE")
+        text = value.strip().lower()
+        if text in ("true", "false"):
+            settings[name.strip()] = text == "true"
+        else:
+            settings[name.strip()] = int(text) if text.lstrip("-").isdigit() else float(text)
+    result = footprint.run(args.preset, progress=lambda msg: print(f"  {msg}", file=sys.stderr),
+                           settings=settings)
     print(footprint.table(result))
     if args.json:
         report.write_json(args.json, {"benchmark": "footprint", **result})
@@ -145,6 +158,20 @@ def _gallery(args: argparse.Namespace) -> int:
     return 0
 
 
+def _params_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--preset", default="medium", help="brush preset whose values to show (default medium)")
+
+
+def _params(args: argparse.Namespace) -> int:
+    from . import BrushModel
+    from .bench.report import parameter_table
+
+    if args.preset not in BrushModel.presets():
+        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
+    print(parameter_table(args.preset))
+    return 0
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -169,6 +196,7 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
+    "params": ("print every brush parameter with its unit, range and value", _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
 }
 

@@ -47,9 +47,32 @@ def measure(model: BrushModel, tilt: float, depth: float, drag_frames: int = 0) 
     return float(a), float(w)
 
 
-def run(preset: str = "medium", progress=None) -> dict:
-    """Rows {tilt, motion, depth_<d>: "area / width"} plus the raw numbers."""
+def flicker(model: BrushModel, tilt: float = 15.0, press: float = 0.25) -> float:
+    """Mean frame-to-frame change of the footprint area over 24 frames of a drag at half a belly
+    radius per frame, relative to the mean area (0: steady; 1.7: the area flips every frame)."""
+    from ..motions import straight_stroke
+
+    b = Brush(model)
+    areas = []
+    poses = straight_stroke(model, start=(0.0, 0.0), length_mm=60.0, step_mm=model.belly_radius / 2,
+                            press=press, tilt_deg=tilt)
+    for k, pose in enumerate(poses):
+        b.step(pose)
+        if 20 <= k < 44:
+            areas.append(b.footprint_area())
+    a = np.array(areas)
+    return float(np.abs(np.diff(a)).mean() / max(a.mean(), 1e-12))
+
+
+def run(preset: str = "medium", progress=None, settings: dict | None = None) -> dict:
+    """Rows {tilt, motion, depth_<d>: "area / width"}, the raw numbers, and the flicker of a
+    15°, 0.25 L drag; `settings` overrides model fields (name -> value)."""
     model = BrushModel.preset(preset)
+    known = {row["name"] for row in BrushModel.parameters()}
+    for name, value in (settings or {}).items():
+        if name not in known:
+            raise ValueError(f"unknown brush parameter {name!r} (see `brushwork params`)")
+        setattr(model, name, value)
     rows, raw = [], []
     for tilt in TILTS:
         for motion, frames in (("static", 0), ("dragged", 40)):
@@ -61,13 +84,17 @@ def run(preset: str = "medium", progress=None) -> dict:
             rows.append(row)
             if progress:
                 progress(f"tilt {tilt:g}, {motion}")
-    return {"preset": preset, "rows": rows, "raw": raw}
+    return {"preset": preset, "settings": settings or {}, "rows": rows, "raw": raw,
+            "flicker_15deg_025L": flicker(model)}
 
 
 def table(result: dict) -> str:
     from .report import markdown_table
 
     cols = ["tilt", "motion"] + [f"{d:g} L" for d in DEPTHS]
+    extra = "".join(f", {k} = {v}" for k, v in result["settings"].items())
     return (markdown_table(result["rows"], cols) +
-            f"\n\n{result['preset']} brush: footprint area (mm²) / width across the travel (mm) "
-            "against the press depth below first contact")
+            f"\n\n{result['preset']} brush{extra}: footprint area (mm²) / width across the travel "
+            "(mm) against the press depth below first contact\n"
+            f"frame-to-frame change of the footprint area, 15°, 0.25 L drag: "
+            f"{100 * result['flicker_15deg_025L']:.0f}% of its mean")

@@ -126,3 +126,18 @@ def write_json(path: str | os.PathLike, obj: Any) -> None:
             pass
         raise
 
+
+
+def parameter_table(preset: str = "medium") -> str:
+    """The Markdown table of every BrushModel field: unit, range, the preset's value, meaning
+    (the README's "Brush parameters"; `brushwork params` prints it)."""
+    from .. import BrushModel
+
+    model = BrushModel.preset(preset)
+    lines = ["| parameter | unit | range | default | meaning |", "|---|---|---|---|---|"]
+    for row in BrushModel.parameters():
+        value = getattr(model, row["name"])
+        lo, hi = (format(v, "g") for v in (row["min"], row["max"]))
+        lines.append(f"| `{row['name']}` | {row['unit']} | {lo} .. {hi} | {value} | "
+                     f"{row['doc'].replace('|', '&#124;')} |")
+    return "\n".join(lines)
