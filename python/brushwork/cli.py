@@ -145,6 +145,8 @@ def _gallery_args(p: argparse.ArgumentParser) -> None:
                    help="the PNG to write (default gallery.png)")
     p.add_argument("--px-per-mm", type=float, default=10.0,
                    help="resolution of the paper (default 10 px/mm: 2100 x 1500 px)")
+    p.add_argument("--views", metavar="FILE", default=None,
+                   help="also write the brush view (shaded, outlined, transparent) to FILE")
 
 
 def _gallery(args: argparse.Namespace) -> int:
@@ -155,6 +157,10 @@ def _gallery(args: argparse.Namespace) -> int:
     path = render_gallery(args.output, args.px_per_mm,
                           progress=lambda msg: print(f"  {msg}", file=sys.stderr))
     print(f"wrote {path}")
+    if args.views:
+        from .gallery import render_views
+
+        print(f"wrote {render_views(args.views)}")
     return 0
 
 

@@ -129,3 +129,21 @@ def render_gallery(path: str | os.PathLike, px_per_mm: float = 10.0, progress=No
         cv2.putText(img, f"({sample.key}) {sample.title}", (x0 + int(12 * scale), y0 + int(34 * scale)),
                     cv2.FONT_HERSHEY_SIMPLEX, 0.9 * scale, (90, 90, 90), max(1, int(2 * scale)), cv2.LINE_AA)
     return write_png(path, img)
+
+
+def render_views(path: str | os.PathLike, width_px: int = 480, height_px: int = 360) -> str:
+    """The brush over its stroke in the three brush-view modes, side by side (seed Figure 8)."""
+    import cv2
+
+    from .motions import straight_stroke
+    from .view import BrushView
+
+    brush = Brush("medium")
+    brush.load_ink(ramp=[(0.1, 0.1, 0.1, 1.0)])
+    paper = Paper(120, 80, 8)
+    for pose in straight_stroke(brush.model, start=(40, 40), length_mm=50, press=0.3)[:45]:
+        brush.step(pose)
+        paper.deposit(brush)
+    view = BrushView(width_px, height_px)
+    images = [view.render(brush, paper, mode=mode) for mode in ("shaded", "outlined", "transparent")]
+    return write_png(path, cv2.cvtColor(np.hstack(images), cv2.COLOR_RGBA2BGR))
