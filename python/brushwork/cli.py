@@ -2,6 +2,7 @@
 
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
+    brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -55,6 +56,19 @@ def _solver(args: argparse.Namespace) -> int:
     return 0
 
 
+# bench precision
+def _precision_args(p: argparse.ArgumentParser) -> None:
+    from .bench import precision
+
+    precision.add_arguments(p)
+
+
+def _precision(args: argparse.Namespace) -> int:
+    from .bench import precision
+
+    return precision.handle(args)
+
+
 # benchmarks not written yet: accept anything, say so, exit 2
 def _pending_args(p: argparse.ArgumentParser) -> None:
     p.set_defaults(accepts_extra=True)
@@ -93,7 +107,7 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "solver": ("solver speed, carried vs fresh Hessian", _solver_args, _solver),
     "render": ("(not implemented yet)", _pending_args, _pending("bench render")),
     "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
-    "precision": ("(not implemented yet)", _pending_args, _pending("bench precision")),
+    "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
 }
 
 
