@@ -30,6 +30,7 @@ def _ours(result, family):
 def test_reference_reaches_kkt_1e_10(result):
     for ref in result["reference"]:
         assert ref["posable_frames"] >= 0.8 * ref["frames"], ref
+        assert ref["valid_frames"] >= 0.9 * ref["frames"], ref
         assert ref["polished_kkt_max"] <= 1e-10, ref
         assert ref["polished_kkt_le_1e-10_frac"] == 1.0, ref
 

@@ -13,6 +13,9 @@ What is measured (issue 5; NUMERICS.md "Error against run time"):
   analytic gradients, active set from the core's multipliers) until the scaled KKT residual is
   <= 1e-10.  The reference *history* (the state that poses the next frame) stays the core's
   own tight solution, so the next frame's normal forces R_i come from the core's multipliers.
+  A reference frame that fails (KKT above REF_KKT_OK after the polish; the core's tight solve
+  can end in a state it cannot leave, see the README) is left out of every statistic of every
+  solver (``valid_frames`` counts the frames kept).
 * **The frame problem.** ``Brush.prepare(pose)`` freezes frame k's problem P_k (contact set, R_i,
   friction anchors, plasticity shift rho, pore plane) from the state after frame k-1; then
   ``energy(z)``, ``energy_gradient(z)``, ``constraints(z)`` (g(z) >= 0 feasible, mm) and
@@ -80,6 +83,10 @@ REF_Q_MAX = 1000
 Q_MAX_SWEEP = (1, 2, 3, 5, 10, 20, 50)
 TOL_SWEEP = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8)
 RATE_SWEEP = (0.5, 2.0, 4.0)
+# a reference frame counts when its polished KKT is at most this (or, on a frame split into
+# sub-steps, which cannot be polished, when the core's own KKT is at most REF_CORE_KKT_OK)
+REF_KKT_OK = 1e-9
+REF_CORE_KKT_OK = 1e-5
 # denominator floor of the relative energy gap, in units of kappa_root (N*mm): frames in the
 # air have E* ~ 0, where a relative gap means nothing
 ENERGY_FLOOR = 1e-3
@@ -488,7 +495,11 @@ def run_ours(model: BrushModel, poses: list, repeats: int) -> Trajectory:
 class Reference:
     """The reference of one motion at one rate over F frames: skeletons (F, n+1, 3) mm,
     footprints, energies (F,) N*mm of P_k at z*, kkt (F,) after the polish, core_kkt (F,) before it,
-    posable (F,) bool (P_k is the problem the core solved: no continuation sub-steps), resyncs."""
+    posable (F,) bool (P_k is the problem the core solved: no continuation sub-steps), resyncs.
+
+    ``valid`` (F,): the frames whose reference holds (a polished KKT at most REF_KKT_OK, or on a
+    frame that cannot be polished a core KKT at most REF_CORE_KKT_OK); every statistic of every
+    solver uses only these frames."""
     skeletons: np.ndarray
     footprints: list
     energies: np.ndarray
@@ -497,6 +508,10 @@ class Reference:
     posable: np.ndarray
     core_energies: np.ndarray
     resyncs: int = 0
+
+    @property
+    def valid(self) -> np.ndarray:
+        return np.where(self.posable, self.kkt <= REF_KKT_OK, self.core_kkt <= REF_CORE_KKT_OK)
     # per peer run: (peer name, tol) -> dict of per-frame arrays (posable frames only)
     peers: dict = field(default_factory=dict)
 
@@ -565,7 +580,8 @@ def run_reference(motion: Motion, poses: list, peer_runs: list,
     energies, kkts, core_kkts = np.full(F, np.nan), np.full(F, np.nan), np.full(F, np.nan)
     posable = np.zeros(F, bool)
     core_energies = np.full(F, np.nan)
-    peers = {(p.name, tol): {"times": [], "skel_err": [], "fp_err": [], "gap": [], "kkt": [], "ok": []}
+    peers = {(p.name, tol): {"frame": [], "times": [], "skel_err": [], "fp_err": [], "gap": [], "kkt": [],
+                             "ok": []}
              for p, tol in peer_runs}
     for k, pose in enumerate(poses):
         # P_k on the probe, then the reference's own step (its history is what poses P_k+1)
@@ -598,6 +614,7 @@ def run_reference(motion: Motion, poses: list, peer_runs: list,
                     z, ok = z0, False
                 dt = time.perf_counter() - t0
                 rec = peers[(p.name, tol)]
+                rec["frame"].append(k)
                 rec["times"].append(dt)
                 rec["ok"].append(ok and bool(np.all(np.isfinite(z))))
                 if not np.all(np.isfinite(z)):
@@ -674,12 +691,13 @@ def build_rows(results: list, setting_list: list, peer_runs: list) -> list[dict]
             tr = ours[st.label]
             L = motion.model().tuft_length
             e_floor = ENERGY_FLOOR * motion.model().bend_stiffness
-            t += list(tr.times)
-            its += list(tr.iterations)
-            conv += list(tr.converged)
-            kk += list(tr.kkt)
-            gaps += list(np.abs(tr.gaps))
-            for k in range(len(tr.times)):
+            v = ref.valid
+            t += list(tr.times[v])
+            its += list(tr.iterations[v])
+            conv += list(tr.converged[v])
+            kk += list(tr.kkt[v])
+            gaps += list(np.abs(tr.gaps[v]))
+            for k in np.flatnonzero(v):
                 d = skeleton_error(tr.skeletons[k], ref.skeletons[k])
                 sk.append(d)
                 skf.append(d / L)
@@ -701,13 +719,14 @@ def build_rows(results: list, setting_list: list, peer_runs: list) -> list[dict]
                 continue
             rec = ref.peers[(p.name, tol)]
             L = motion.model().tuft_length
-            t += list(rec["times"])
-            gaps += list(rec["gap"])
-            sk += list(rec["skel_err"])
-            skf += list(np.asarray(rec["skel_err"]) / L)
-            fe += list(rec["fp_err"])
-            ok += list(rec["ok"])
-            kk += list(rec["kkt"])
+            v = ref.valid[rec["frame"].astype(int)] if len(rec["frame"]) else np.zeros(0, bool)
+            t += list(rec["times"][v])
+            gaps += list(rec["gap"][v])
+            sk += list(rec["skel_err"][v])
+            skf += list(rec["skel_err"][v] / L)
+            fe += list(rec["fp_err"][v])
+            ok += list(rec["ok"][v])
+            kk += list(rec["kkt"][v])
         own = p.own_default is not None and tol == p.own_default
         rows.append(_row(p.name, f"{p.option}={tol:.0e}" + (" (its default)" if own else ""),
                          "peer", False, t, gaps, sk, skf, fe, kkt_median=_median(kk),
@@ -861,11 +880,17 @@ def run(quick: bool = False, repeats: Optional[int] = None, peers: bool = True,
             ref_summary.append({
                 "motion": motion.name, "rate": rate, "frames": len(poses),
                 "posable_frames": int(ref.posable.sum()),
-                "polished_kkt_max": float(np.nanmax(ref.kkt[ref.posable])) if ref.posable.any() else None,
-                "polished_kkt_le_1e-10_frac": float(np.mean(ref.kkt[ref.posable] <= 1e-10)) if ref.posable.any() else None,
+                # over the valid frames (every statistic uses only those)
+                "polished_kkt_max": (float(np.nanmax(ref.kkt[ref.posable & ref.valid]))
+                                     if (ref.posable & ref.valid).any() else None),
+                "polished_kkt_le_1e-10_frac": (float(np.mean(ref.kkt[ref.posable & ref.valid] <= 1e-10))
+                                               if (ref.posable & ref.valid).any() else None),
                 "core_kkt_median": float(np.median(ref.core_kkt)),
                 "core_kkt_max": float(np.max(ref.core_kkt)),
                 "probe_resyncs": ref.resyncs,
+                "valid_frames": int(ref.valid.sum()),
+                "reference_failed_at": (int(np.argmin(ref.valid)) if not ref.valid.all() else None),
+                "failed_frames": int((~ref.valid).sum()),
             })
     rows = build_rows(results, setting_list, peer_runs)
     say("Table 1")
@@ -945,10 +970,11 @@ def table(result: dict) -> str:
     out.append("References (core at tolerance 1e-10, then the Newton polish):")
     out.append("")
     out.append(markdown_table(
-        result["reference"], ["motion", "rate", "frames", "posable_frames", "core_kkt_median",
-                              "core_kkt_max", "polished_kkt_max", "probe_resyncs"],
-        ["motion", "rate", "frames", "posable", "core KKT p50", "core KKT max",
-         "polished KKT max", "probe resyncs"]))
+        result["reference"], ["motion", "rate", "frames", "posable_frames", "valid_frames",
+                              "reference_failed_at", "core_kkt_median", "core_kkt_max",
+                              "polished_kkt_max", "probe_resyncs"],
+        ["motion", "rate", "frames", "posable", "valid", "first failed frame",
+         "core KKT p50", "core KKT max", "polished KKT max (valid)", "probe resyncs"]))
     return "\n".join(out)
 
 
@@ -963,8 +989,12 @@ def plot(result: dict, path: str) -> None:
     rows = [r for r in result["rows"] if r["ms_per_frame_median"] is not None]
     floor = 1e-12  # errors of exactly 0 are drawn here
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
-    metrics = (("skeleton_error_mm_median", "skeleton error, median over frames (mm)"),
-               ("energy_gap_median", "relative energy gap, median over frames"))
+    metrics = (("skeleton_error_mm_median", "skeleton error, median over frames (mm)",
+                "against the reference: ours along our own trajectory, peers over one frame\n"
+                "from the reference's previous frame (not head to head)"),
+               ("energy_gap_median", "relative energy gap, median over frames",
+                "on the frame problem each solver was given, against its exact minimum\n"
+                "(head to head)"))
     curves: dict = {}
     for r in rows:
         key = (r["solver"], r["family"])
@@ -972,7 +1002,7 @@ def plot(result: dict, path: str) -> None:
     styles = {"q_max": ("tab:blue", "o"), "tolerance": ("tab:green", "s"), "hessian": ("tab:purple", "D"),
               "rate": ("tab:brown", "^")}
     peer_colors = ["tab:red", "tab:orange", "tab:gray"]
-    for ax, (key, label) in zip(axes, metrics):
+    for ax, (key, label, title) in zip(axes, metrics):
         pi = 0
         for (solver, family), rs in curves.items():
             rs = sorted(rs, key=lambda r: r["ms_per_frame_median"])
@@ -997,6 +1027,7 @@ def plot(result: dict, path: str) -> None:
                 mec="black", ls="none", label="shipped default", zorder=5)
         ax.set_xscale("log")
         ax.set_yscale("log")
+        ax.set_title(title, fontsize=9)
         ax.set_xlabel("time per frame, median (ms)")
         ax.set_ylabel(label)
         ax.grid(True, which="both", alpha=0.3)
