@@ -59,7 +59,6 @@ import math
 import os
 import platform
 import sys
-import tempfile
 import time
 import warnings
 from dataclasses import dataclass, field
@@ -986,6 +985,8 @@ def plot(result: dict, path: str) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from .report import write_atomic
+
     rows = [r for r in result["rows"] if r["ms_per_frame_median"] is not None]
     floor = 1e-12  # errors of exactly 0 are drawn here
     fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
@@ -1035,16 +1036,8 @@ def plot(result: dict, path: str) -> None:
     fig.suptitle("brushwork: error against time per frame (" + result["machine"].split(",")[0] + ")",
                  fontsize=10)
     fig.tight_layout()
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=folder)
-    os.close(fd)
     try:
-        fig.savefig(tmp, dpi=110, format="png")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+        write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"), suffix=".png")
     finally:
         plt.close(fig)
 
@@ -1064,7 +1057,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     """Run with parsed `args`: print the Markdown, write the plot (and JSON). Returns the exit code."""
-    from .report import check_writable, write_json
+    from .report import check_writable, write_atomic, write_json
 
     if args.repeats is not None and args.repeats < 1:
         raise ValueError(f"--repeats {args.repeats} must be at least 1")
@@ -1079,10 +1072,11 @@ def handle(args: argparse.Namespace) -> int:
     text = table(result)
     print(text)
     plot(result, png)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".md", dir=os.path.dirname(os.path.abspath(md)))
-    with os.fdopen(fd, "w", encoding="utf-8") as f:
-        f.write(text + "\n")
-    os.replace(tmp, md)
+    def write_md(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text + "\n")
+
+    write_atomic(md, write_md, suffix=".md")
     print(f"\nplot: {png}; table: {md} ({result['wall_seconds']:.0f} s)")
     if args.json:
         write_json(args.json, result)
