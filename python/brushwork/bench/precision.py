@@ -431,7 +431,8 @@ def available_peers(quick: bool) -> tuple[list[tuple[Peer, float]], list[str]]:
         try:
             importlib.import_module(p.module)
         except ImportError as exc:
-            notes.append(f"{p.name}: not installed ({exc}); `pip install .[bench]`")
+            extra = "ipopt" if p.module == "cyipopt" else "bench"
+            notes.append(f"{p.name}: not installed ({exc}); `pip install .[{extra}]`")
             continue
         tols = [p.own_default or 1e-6] if quick else list(p.tols)
         runs += [(p, t) for t in tols]
