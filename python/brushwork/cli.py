@@ -2,6 +2,7 @@
 
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
+    brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -106,6 +107,17 @@ def _footprint(args: argparse.Namespace) -> int:
     if args.json:
         report.write_json(args.json, {"benchmark": "footprint", **result})
     return 0
+# bench precision
+def _precision_args(p: argparse.ArgumentParser) -> None:
+    from .bench import precision
+
+    precision.add_arguments(p)
+
+
+def _precision(args: argparse.Namespace) -> int:
+    from .bench import precision
+
+    return precision.handle(args)
 
 
 # benchmarks not written yet: accept anything, say so, exit 2
@@ -185,7 +197,7 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "footprint": ("footprint area and width against press depth and tilt", _footprint_args, _footprint),
     "render": ("deposit cost per frame, minimal vs full scene", _render_args, _render),
     "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
-    "precision": ("(not implemented yet)", _pending_args, _pending("bench precision")),
+    "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
 }
 
 

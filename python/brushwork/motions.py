@@ -80,6 +80,37 @@ def pressed_drag(model: BrushModel, frames: int = 160, press: float = 0.2, tilt_
     return poses
 
 
+def flick(model: BrushModel, frames: int = 40, press: float = 0.15, tilt_deg: float = 20.0,
+          reach: float = 1.5, heading_deg: float = 45.0) -> list[Pose]:
+    """A fast flick, the hook's exit: press at the origin, hold, then sweep the root `reach` L
+    along `heading_deg` while rising into the air within a few frames, and let the brush spring
+    back in the air.  The handle leans toward the flick by `tilt_deg`.
+
+    Phases as fractions of `frames`: 40% press, 10% hold, 15% flick (at 40 frames six frames of
+    0.25 L each), 35% in the air at the end point.
+    """
+    if frames < 20:
+        raise ValueError(f"flick: frames = {frames} is too few (at least 20)")
+    L = model.tuft_length
+    contact_z = L * math.cos(math.radians(tilt_deg))
+    z_air, z_press = contact_z + 0.15 * L, contact_z - press * L
+    n_press, n_hold, n_flick = (max(1, int(frames * f)) for f in (0.40, 0.10, 0.15))
+    n_air = frames - n_press - n_hold - n_flick
+    h = math.radians(heading_deg)
+    poses: list[Pose] = []
+    for k in range(n_press):
+        poses.append(Pose((0.0, 0.0, _lerp(z_air, z_press, (k + 1) / n_press)), tilt_deg, heading_deg))
+    poses += [Pose((0.0, 0.0, z_press), tilt_deg, heading_deg)] * n_hold
+    # the flick: the root accelerates along the heading while the lift takes it off the paper
+    for k in range(n_flick):
+        t = (k + 1) / n_flick
+        d = reach * L * t
+        poses.append(Pose((d * math.cos(h), d * math.sin(h), _lerp(z_press, z_air, t)), tilt_deg, heading_deg))
+    end = (reach * L * math.cos(h), reach * L * math.sin(h), z_air)
+    poses += [Pose(end, tilt_deg, heading_deg)] * n_air
+    return poses
+
+
 def replay(brush, poses) -> list:
     """Step `brush` through `poses`; return the list of StepStats."""
     return [brush.step(p) for p in poses]

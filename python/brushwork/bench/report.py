@@ -5,7 +5,7 @@ import json
 import math
 import os
 import tempfile
-from typing import Any, Sequence
+from typing import Any, Callable, Sequence
 
 
 def format_value(v: Any) -> str:
@@ -100,24 +100,21 @@ def check_writable(path: str | os.PathLike) -> None:
         raise PermissionError(f"cannot write {path}: folder {folder} is not writable")
 
 
-def write_json(path: str | os.PathLike, obj: Any) -> None:
-    """Write `obj` as indented JSON to `path` atomically (a temporary file in the same folder, then
-    os.replace). Numpy values become plain numbers and lists; NaN and inf become null."""
+def write_atomic(path: str | os.PathLike, write: Callable[[str], None], suffix: str = "") -> None:
+    """Call write(tmp) on a temporary file next to `path`, then os.replace it onto `path`, so that a
+    reader never sees a half-written file.  The file gets the usual umask permissions."""
     path = os.fspath(path)
     check_writable(path)
     folder = os.path.dirname(os.path.abspath(path))
     # write next to the target so that os.replace stays on one file system
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".json", dir=folder)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=folder)
+    os.close(fd)
     try:
         # mkstemp makes the file private (0600): give it the usual umask permissions
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)
-        with os.fdopen(fd, "w", encoding="utf-8") as f:
-            json.dump(_jsonable(obj), f, indent=2, allow_nan=False)
-            f.write("\n")
-            f.flush()
-            os.fsync(f.fileno())
+        write(tmp)
         os.replace(tmp, path)
     except BaseException:
         try:
@@ -141,3 +138,14 @@ def parameter_table(preset: str = "medium") -> str:
         lines.append(f"| `{row['name']}` | {row['unit']} | {lo} .. {hi} | {value} | "
                      f"{row['doc'].replace('|', '&#124;')} |")
     return "\n".join(lines)
+def write_json(path: str | os.PathLike, obj: Any) -> None:
+    """Write `obj` as indented JSON to `path` atomically (a temporary file in the same folder, then
+    os.replace). Numpy values become plain numbers and lists; NaN and inf become null."""
+    def write(tmp: str) -> None:
+        with open(tmp, "w", encoding="utf-8") as f:
+            json.dump(_jsonable(obj), f, indent=2, allow_nan=False)
+            f.write("\n")
+            f.flush()
+            os.fsync(f.fileno())
+
+    write_atomic(path, write, suffix=".json")
