@@ -1,0 +1,133 @@
+"""load_source: glyphs for some characters from a named source."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from . import kanjivg, mmah
+from .jsonfmt import load_glyph
+from .model import Glyph, GlyphError
+
+SPECS = "kanjivg, kanjivg:DIR, mmah:PATH (graphics.txt or a folder of <char>.json) or glyphs:DIR"
+
+
+def glyph_file_name(char: str) -> str:
+    """Our format's file name for char: U+XXXX.json (upper-case hex, at least 4 digits)."""
+    return f"U+{ord(char):04X}.json"
+
+
+def _unknown(where, char: str) -> GlyphError:
+    return GlyphError(where, f"no glyph for {char!r} (U+{ord(char):04X})")
+
+
+def _from_folder(folder: Path, wanted, name_of, read):
+    """(char, Glyph | GlyphError) for files named name_of(char) in folder; all such files if wanted is None."""
+    if wanted is None:
+        by_name = {}
+        for p in sorted(folder.glob("*.json")):
+            char = _char_of(p.name, name_of)
+            if char is not None:
+                by_name[char] = p
+        items = list(by_name.items())
+    else:
+        items = [(c, folder / name_of(c)) for c in wanted]
+    for char, path in items:
+        if not path.is_file():
+            yield char, _unknown(folder, char)
+            continue
+        try:
+            yield char, read(path, char)
+        except GlyphError as e:
+            yield char, e
+
+
+def _char_of(file_name: str, name_of) -> str | None:
+    stem = file_name[:-len(".json")]
+    candidates = [stem] if len(stem) == 1 else []
+    if stem.startswith("U+"):
+        try:
+            candidates.append(chr(int(stem[2:], 16)))
+        except (ValueError, OverflowError):
+            pass
+    return next((c for c in candidates if name_of(c) == file_name), None)
+
+
+def _read_ours(path: Path, char: str) -> Glyph:
+    glyph = load_glyph(path)
+    if glyph.char != char:
+        raise GlyphError(path, f"holds {glyph.char!r}, but its name says {char!r}")
+    return glyph
+
+
+def load_source(spec: str, chars: str | None = None, *, variant: str | None = None,
+                errors: list | None = None) -> dict[str, Glyph]:
+    """{char: Glyph} for the requested chars (every glyph the source has when chars is None).
+
+    spec: "kanjivg" (the installed kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs),
+    "mmah:PATH" (a graphics.txt file, or a folder of hanzi-writer-data <char>.json files) or
+    "glyphs:DIR" (our format, files named U+XXXX.json). variant: a KanjiVG variant such as "Kaisho",
+    used where a character has one (the plain file otherwise); "kanjivg#Kaisho" says the same.
+    A bad or unknown character raises GlyphError naming the file or source; pass a list as errors
+    to collect those errors there and go on with the other characters instead.
+    """
+    if not isinstance(spec, str):
+        raise GlyphError(repr(spec), f"unknown source; expected {SPECS}")
+    wanted = None if chars is None else list(dict.fromkeys(chars))
+    base, _, hashed = spec.rpartition("#") if spec.startswith("kanjivg") and "#" in spec else (spec, "", "")
+    variant = hashed or variant
+    kind, _, arg = base.partition(":")
+    if kind not in ("kanjivg", "mmah", "glyphs") or (kind != "kanjivg" and not arg):
+        raise GlyphError(spec, f"unknown source; expected {SPECS}")
+    path = Path(arg) if arg else None
+    if path is not None and not path.exists():
+        raise GlyphError(path, "no such file or folder")
+    if kind == "kanjivg":
+        folder = path or kanjivg.package_dir()
+
+        def read_kvg(p, char):
+            return kanjivg.read_svg(p, source="kanjivg")
+        if wanted is None:
+            stems = sorted({p.name.split("-")[0].split(".")[0] for p in folder.glob("*.svg")})
+            wanted_kvg = [chr(int(s, 16)) for s in stems if all(ch in "0123456789abcdef" for ch in s)]
+        else:
+            wanted_kvg = wanted
+        found = ((c, kanjivg.file_for(folder, c, variant)) for c in wanted_kvg)
+        items = ((c, _unknown(folder if path else "kanjivg", c) if p is None else _try(read_kvg, p, c))
+                 for c, p in found)
+    elif kind == "glyphs":
+        if not path.is_dir():
+            raise GlyphError(path, "glyphs: needs a folder of U+XXXX.json files")
+        items = _from_folder(path, wanted, glyph_file_name, _read_ours)
+    elif path.is_dir():
+        items = _from_folder(path, wanted, lambda c: f"{c}.json", mmah.read_char_file)
+    else:
+        items = _mmah_file(path, wanted)
+    out: dict[str, Glyph] = {}
+    handled = set()
+    for char, got in items:
+        handled.add(char)
+        if isinstance(got, GlyphError):
+            if errors is None:
+                raise got
+            errors.append(got)
+        elif char not in out:
+            out[char] = got
+    if wanted is not None:
+        for char in wanted:
+            if char not in handled:
+                e = _unknown(path, char)
+                if errors is None:
+                    raise e
+                errors.append(e)
+        out = {c: out[c] for c in wanted if c in out}
+    return out
+
+
+def _try(read, path, char):
+    try:
+        return read(path, char)
+    except GlyphError as e:
+        return e
+
+
+def _mmah_file(path: Path, wanted):
+    yield from mmah.read_graphics(path, None if wanted is None else set(wanted))
