@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -47,6 +48,10 @@ class RenderContext {
   RenderContext& operator=(const RenderContext&) = delete;
 
   const RenderInfo& info() const { return info_; }
+  // a GLSL program built from `vertex` + `fragment` with "#define" lines for `defines`, compiled
+  // once per context and shared (a Paper per glyph in a batch must not recompile its shaders);
+  // owned by the context: callers must not delete it
+  unsigned program(const char* vertex, const char* fragment, const std::vector<std::string>& defines);
   void make_current() const;  // throws if closed
   bool closed() const { return display_ == nullptr; }
   void close();               // idempotent
@@ -57,6 +62,7 @@ class RenderContext {
   void* display_ = nullptr;
   void* context_ = nullptr;
   RenderInfo info_;
+  std::map<std::string, unsigned> programs_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -111,6 +117,7 @@ struct DepositStats {
   bool contact = false;        // some of the surface was below the paper
   bool new_stroke = false;     // this deposit started a stroke
   int substeps = 0;            // footprints swept between the last deposit and this one
+  int slides = 0;              // copies of each footprint slid along its move (0: blend only)
   double deposited = 0.0;      // mm^2 of full-density ink given to the paper (depletion only)
   std::array<int, 4> rect{{0, 0, 0, 0}};  // px x0, y0, x1, y1 (exclusive) touched, y up
 };

@@ -90,8 +90,8 @@ BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) 
   gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
   glu::check_framebuffer("brush view resolve");
 
-  brush_prog_ = glu::program(shaders::kViewVertex, shaders::kViewFragment, {});
-  paper_prog_ = glu::program(shaders::kPaperVertex, shaders::kPaperFragment, {});
+  brush_prog_ = ctx_->program(shaders::kViewVertex, shaders::kViewFragment, {});
+  paper_prog_ = ctx_->program(shaders::kPaperVertex, shaders::kPaperFragment, {});
   gl::GenVertexArrays(1, &vao_);
   gl::GenBuffers(1, &vbo_);
   gl::GenBuffers(1, &ibo_);
@@ -131,8 +131,6 @@ BrushView::~BrushView() {
   gl::DeleteRenderbuffers(1, &depth_ms_);
   gl::DeleteTextures(1, &color_);
   gl::DeleteTextures(1, &ramp_tex_);
-  gl::DeleteProgram(brush_prog_);
-  gl::DeleteProgram(paper_prog_);
   gl::DeleteVertexArrays(1, &vao_);
   gl::DeleteVertexArrays(1, &paper_vao_);
   gl::DeleteBuffers(1, &vbo_);

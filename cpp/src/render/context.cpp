@@ -5,6 +5,7 @@
 #include <EGL/eglext.h>
 #include <dlfcn.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <mutex>
 #include <stdexcept>
@@ -12,6 +13,7 @@
 
 #include "brushwork/render.hpp"
 #include "gl_api.hpp"
+#include "gl_util.hpp"
 
 namespace brushwork {
 namespace gl {
@@ -249,6 +251,20 @@ void RenderContext::open() {
   info_.max_texture_size = max_tex;
 }
 
+unsigned RenderContext::program(const char* vertex, const char* fragment,
+                                const std::vector<std::string>& defines) {
+  // key: the two sources (their addresses: they are string constants) and the switches
+  std::string key = std::to_string(reinterpret_cast<std::uintptr_t>(vertex)) + "/" +
+                    std::to_string(reinterpret_cast<std::uintptr_t>(fragment));
+  for (const auto& d : defines) key += "/" + d;
+  auto it = programs_.find(key);
+  if (it != programs_.end()) return it->second;
+  make_current();
+  const unsigned prog = glu::program(vertex, fragment, defines);
+  programs_.emplace(key, prog);
+  return prog;
+}
+
 void RenderContext::make_current() const {
   if (closed()) throw std::runtime_error("the render context is closed");
   Egl& e = egl();
@@ -262,6 +278,7 @@ void RenderContext::close() {
   e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   if (context_ != nullptr) e.DestroyContext(display_, context_);
   e.Terminate(display_);
+  programs_.clear();  // they died with the context
   display_ = nullptr;
   context_ = nullptr;
 }

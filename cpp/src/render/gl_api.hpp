@@ -88,6 +88,8 @@ namespace brushwork::gl {
   X(void, VertexAttribPointer, (GLuint, GLint, GLenum, GLboolean, GLsizei, const void*))       \
   X(void, EnableVertexAttribArray, (GLuint))                                                   \
   X(void, DrawElements, (GLenum, GLsizei, GLenum, const void*))                                \
+  X(void, DrawElementsInstanced, (GLenum, GLsizei, GLenum, const void*, GLsizei))              \
+  X(void, Uniform1iv, (GLint, GLsizei, const GLint*))                                          \
   X(void, DrawArrays, (GLenum, GLint, GLsizei))
 
 #define BRUSHWORK_GL_DECLARE(ret, name, args) extern ret(*name) args;

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
 #include <numeric>
+#include <tuple>
 
 namespace brushwork::maps {
 namespace {
@@ -48,6 +51,19 @@ void equalise(std::vector<float>& v) {
 }
 
 }  // namespace
+
+const std::vector<float>& cached(char kind, int rows, int cols, std::uint32_t seed,
+                                 std::vector<float> (*make)(int, int, std::uint32_t)) {
+  // the maps of a seed are made once per process (the dry map's equalising sort is the slow
+  // part); entries are never removed, so references stay valid
+  static std::mutex mu;
+  static std::map<std::tuple<char, int, int, std::uint32_t>, std::vector<float>> cache;
+  std::lock_guard<std::mutex> lock(mu);
+  auto key = std::make_tuple(kind, rows, cols, seed);
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, make(rows, cols, seed)).first;
+  return it->second;
+}
 
 std::vector<float> split_map(int rows, int cols, std::uint32_t seed) {
   std::vector<float> a(static_cast<std::size_t>(rows) * cols, 1.0f);

@@ -20,4 +20,8 @@ std::vector<float> dry_map(int rows, int cols, std::uint32_t seed);
 // Paper grain: a tileable height field (size, size) in [0, 1], equalised like the dry map.
 std::vector<float> grain_map(int size, std::uint32_t seed);
 
+// `make(rows, cols, seed)` once per (kind, rows, cols, seed) per process, then the same vector
+const std::vector<float>& cached(char kind, int rows, int cols, std::uint32_t seed,
+                                 std::vector<float> (*make)(int, int, std::uint32_t));
+
 }  // namespace brushwork::maps

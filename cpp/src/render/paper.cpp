@@ -27,7 +27,7 @@ struct PaperTile {
 class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
-  GLint u_t = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
+  GLint u_blends = -1, u_slides = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
   GLint u_dry_param = -1, u_grain_scale = -1;
 };
@@ -172,9 +172,10 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   if (scene_.depletion) defines.push_back("USE_DEPLETION");
   program_ = std::make_unique<FootprintProgram>();
   FootprintProgram& fp = *program_;
-  fp.prog = glu::program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
+  fp.prog = ctx_->program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
   const GLuint p = fp.prog;
-  fp.u_t = glu::uniform(p, "u_t");
+  fp.u_blends = glu::uniform(p, "u_blends");
+  fp.u_slides = glu::uniform(p, "u_slides");
   fp.u_shift = glu::uniform(p, "u_shift");
   fp.u_view = glu::uniform(p, "u_view");
   fp.u_soak = glu::uniform(p, "u_soak");
@@ -207,7 +208,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   gl::BindVertexArray(0);
 
   // composite: a full-tile triangle pair
-  composite_program_ = glu::program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
+  composite_program_ = ctx_->program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
   const float quad[12] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
   gl::GenVertexArrays(1, &quad_vao_);
   gl::GenBuffers(1, &quad_vbo_);
@@ -220,15 +221,16 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
 
   // the maps this scene uses, and only those
   if (scene_.split_map) {
-    const auto a = maps::split_map(kSplitRows, kSplitCols, scene_.seed);
+    const auto& a = maps::cached('s', kSplitRows, kSplitCols, scene_.seed, maps::split_map);
     split_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, a.data(), true, GL_REPEAT);
   }
   if (scene_.dry_map) {
-    const auto d = maps::dry_map(kSplitRows, kSplitCols, scene_.seed);
+    const auto& d = maps::cached('d', kSplitRows, kSplitCols, scene_.seed, maps::dry_map);
     dry_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, d.data(), true, GL_REPEAT);
   }
   if (scene_.grain) {
-    const auto g = maps::grain_map(kGrainSize, scene_.seed);
+    const auto& g = maps::cached('g', kGrainSize, kGrainSize, scene_.seed,
+                                 [](int n, int, std::uint32_t seed) { return maps::grain_map(n, seed); });
     grain_tex_ = glu::texture(GL_R32F, kGrainSize, kGrainSize, GL_RED, GL_FLOAT, g.data(), true, GL_REPEAT);
   }
   if (scene_.color_ramp)
@@ -254,13 +256,11 @@ Paper::~Paper() {
       gl::DeleteTextures(1, &t->layer_tex);
     }
   }
-  if (program_) {
-    gl::DeleteProgram(program_->prog);
+  if (program_) {  // (the programs belong to the context)
     gl::DeleteVertexArrays(1, &program_->vao);
     gl::DeleteBuffers(1, &program_->vbo);
     gl::DeleteBuffers(1, &program_->ibo);
   }
-  gl::DeleteProgram(composite_program_);
   gl::DeleteVertexArrays(1, &quad_vao_);
   gl::DeleteBuffers(1, &quad_vbo_);
   for (GLuint tex : {split_tex_, dry_tex_, grain_tex_, ramp_tex_})
@@ -495,6 +495,9 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const double spacing = std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
   const int K = continues ? std::clamp(static_cast<int>(std::ceil(travel * ppm_ / spacing)), 1, 4096) : 1;
   stats.substeps = K;
+  // slides: one copy per 0.75 px of the centre's move, so even a thin sliver leaves a band
+  const int slides = both ? std::clamp(static_cast<int>(std::ceil(std::hypot(shift_x, shift_y) * ppm_ / 0.75)), 1, 4096) : 0;
+  stats.slides = slides;
 
   if (!empty(rect) && !faces.empty()) {
     // vertex data: prev, cur, centre prev, centre cur, uv
@@ -580,23 +583,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       // leaves one unbroken band: the blend alone lifts off the paper halfway between a
       // pressed blob and a thin trailing tip).  The price: where the shape changes abruptly
       // the slid blob paints a little more than the brush touched.
-      const auto draw = [&](float t, float sx, float sy) {
-        gl::Uniform1f(fp.u_t, t);
-        gl::Uniform2f(fp.u_shift, sx, sy);
-        gl::DrawElements(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr);
-      };
-      for (int k = 1; k <= K; ++k) draw(static_cast<float>(k) / K, 0.0f, 0.0f);
-      if (both) {
-        // each part slid along the move of the footprint's centre toward the other, one copy per
-        // 0.75 px of the move so that even a thin sliver leaves an unbroken band
-        const double move_px = std::hypot(shift_x, shift_y) * ppm_;
-        const int Ks = std::clamp(static_cast<int>(std::ceil(move_px / 0.75)), 1, 4096);
-        for (int k = 1; k <= Ks; ++k) {
-          const float t = static_cast<float>(k) / Ks;
-          draw(0.0f, static_cast<float>(t * shift_x), static_cast<float>(t * shift_y));
-          draw(1.0f, static_cast<float>((t - 1.0f) * shift_x), static_cast<float>((t - 1.0f) * shift_y));
-        }
-      }
+      gl::Uniform1i(fp.u_blends, K);
+      gl::Uniform1i(fp.u_slides, slides);
+      gl::Uniform2f(fp.u_shift, static_cast<float>(shift_x), static_cast<float>(shift_y));
+      gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr,
+                                K + 2 * slides);
     });
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);

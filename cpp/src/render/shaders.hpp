@@ -14,21 +14,37 @@ layout(location = 1) in vec3 a_cur;
 layout(location = 2) in vec3 a_center_prev;
 layout(location = 3) in vec3 a_center_cur;
 layout(location = 4) in vec2 a_uv;
-uniform float u_t;      // blend between the last deposit's surface (0) and this one's (1)
-uniform vec2 u_shift;   // mm, added on the paper (the translated sweeps, see Paper::deposit)
+// The whole sweep of one deposit is one instanced draw (a draw call costs more than its pixels
+// on a software renderer): instance i < K blends the two surfaces at t = (i + 1) / K; the next
+// Ks instances slide the last surface toward this one, the Ks after them slide this one back.
+uniform int u_blends;   // K
+uniform int u_slides;   // Ks (0: no slides)
+uniform vec2 u_shift;   // mm, the move of the footprint's centre from the last deposit
 uniform vec4 u_view;    // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
 uniform float u_soak;   // soak_expand * excess moisture
 out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
 void main() {
-  vec3 p = mix(a_prev, a_cur, u_t);
+  int i = gl_InstanceID;
+  float t;
+  vec2 shift = vec2(0.0);
+  if (i < u_blends) {
+    t = float(i + 1) / float(u_blends);
+  } else if (i < u_blends + u_slides) {
+    t = 0.0;
+    shift = u_shift * (float(i - u_blends + 1) / float(u_slides));
+  } else {
+    t = 1.0;
+    shift = u_shift * (float(i - u_blends - u_slides + 1) / float(u_slides) - 1.0);
+  }
+  vec3 p = mix(a_prev, a_cur, t);
 #ifdef USE_SOAK
   // seed "Soaked brush": the tip swells with excess moisture, more toward the tip
-  vec3 c = mix(a_center_prev, a_center_cur, u_t);
+  vec3 c = mix(a_center_prev, a_center_cur, t);
   p = c + (p - c) * (1.0 + u_soak * smoothstep(0.5, 1.0, a_uv.x));
 #endif
-  p.xy += u_shift;
+  p.xy += shift;
   v_uv = a_uv;
   v_z = p.z;
   v_mm = p.xy;
