@@ -229,3 +229,18 @@ def test_a_pressed_tilted_drag_keeps_its_belly_on_the_paper():
     sk = b.skeleton()
     assert sk[-1, 0] < sk[0, 0], "the tip trails"
     assert b.last_stats.max_penetration <= PENETRATION_FRAC * m.tuft_length
+
+
+def test_a_copied_brush_steps_exactly_like_the_original():
+    from brushwork.motions import press_drag_turn_lift
+
+    a = bw.Brush("small")
+    poses = press_drag_turn_lift(a.model, 80)
+    for p in poses[:40]:
+        a.step(p)
+    b = a.copy()
+    for p in poses[40:]:
+        sa, sb = a.step(p), b.step(p)
+        assert sa.iterations == sb.iterations and sa.energy == sb.energy
+    assert np.array_equal(a.skeleton(), b.skeleton())
+    assert np.array_equal(a.multipliers(), b.multipliers())

@@ -84,6 +84,8 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
 
   py::class_<Brush>(m, "Brush")
       .def(py::init<const BrushModel&>(), py::arg("model"))
+      .def("copy_state_from", [](Brush& self, const Brush& other) { self = other; }, py::arg("other"),
+           "become an exact copy of `other`: model, state, plasticity, carried Hessian, statistics")
       .def_property_readonly("model", &Brush::model, py::return_value_policy::copy)
       .def("step", &Brush::step, py::arg("pose"), py::call_guard<py::gil_scoped_release>())
       .def("reset", &Brush::reset)

@@ -51,6 +51,18 @@ class Brush(_core.Brush):
         self.wetness = np.ones(m.n_segments + 1)
         return ink
 
+    def copy(self) -> "Brush":
+        """An independent brush in exactly this state (the next step() of both agrees bit for
+        bit); the ink is copied too."""
+        twin = type(self)(self.model)
+        twin.copy_state_from(self)
+        if getattr(self, "_ink", None) is not None:
+            ink = _core.Ink(twin, 1.0)
+            ink.ramp, ink.load, ink.capacity = self._ink.ramp, self._ink.load.copy(), self._ink.capacity.copy()
+            ink.excess, ink.deposited = self._ink.excess, self._ink.deposited
+            twin._ink = ink
+        return twin
+
     def default_ink_mm2(self) -> float:
         """Ink a dipped tuft holds, in mm^2 of paper at full density: 2 pi r^2 L."""
         m = self.model

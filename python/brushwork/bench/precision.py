@@ -26,8 +26,8 @@ What is measured (issue 5; NUMERICS.md "Error against run time"):
   sinks more than 2% L is split into sub-steps; then P_k is not the problem the core solved,
   and the frame is left out of the energy gaps and the peers' runs: ``posable`` false) and the
   sleep rule (no iterations for the same pose; a step after a prepare always sees "the same
-  pose").  When the probe's own ``step()`` leaves it out of lockstep, it is rebuilt by replaying
-  the motion (``resyncs`` counts these).
+  pose").  The probe is put back in lockstep after each frame by copying the stepping brush's
+  whole state (``Brush.copy_state_from``).
 * **Peers** (SciPy's SLSQP, NLopt's SLSQP, IPOPT through cyipopt; each optional) solve the
   reference's P_k, warm-started from the reference's previous-frame solution (what
   ``variables()`` returns after ``prepare``), fed the core's energy, gradient, constraints and
@@ -521,9 +521,9 @@ class LockstepProbe:
     problem P_k can be prepared on it before the stepping brush solves frame k.
 
     Use: ``probe.prepare(k)``; step the other brush; read P_k from ``probe.brush``;
-    ``probe.advance(k, other)``.  A prepared brush's own ``step()`` sees "the same pose" (sleep
-    rule) and no last pose to split from (continuation), so it can leave lockstep; then it is
-    rebuilt by replaying poses[:k + 1] (``resyncs`` counts these)."""
+    ``probe.advance(k, other)``, which copies the other brush's whole state (a prepared brush's
+    own ``step()`` would see "the same pose", the sleep rule, and leave lockstep).
+    ``resyncs`` stays 0 (kept for the report's format)."""
 
     def __init__(self, model: BrushModel, poses: list):
         self.model, self.poses = model, poses
@@ -534,15 +534,10 @@ class LockstepProbe:
         self.brush.prepare(self.poses[k])
 
     def advance(self, k: int, other: Brush) -> None:
-        self.brush.step(self.poses[k])
-        b = self.brush
-        if not (b.num_constraints == other.num_constraints
-                and np.array_equal(b.variables(), other.variables())
-                and np.array_equal(b.multipliers(), other.multipliers())):
-            self.resyncs += 1
-            self.brush = Brush(self.model)
-            for q in self.poses[:k + 1]:
-                self.brush.step(q)
+        # back in lockstep by copying the stepping brush's whole state (stepping the probe
+        # itself could leave lockstep, and replaying poses[:k + 1] then made the reference
+        # quadratic in the number of frames)
+        self.brush.copy_state_from(other)
 
 
 def own_problem_gaps(model: BrushModel, poses: list) -> np.ndarray:
