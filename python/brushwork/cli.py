@@ -40,20 +40,37 @@ def _solver_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--repeats", type=int, default=5, help="runs per mode, best kept (default 5)")
 
 
-def _solver(args: argparse.Namespace) -> int:
+def _check_preset(name: str) -> None:
     from . import BrushModel
-    from .bench import report, solver
 
-    if args.preset not in BrushModel.presets():
-        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
-    # fail on an unwritable --json target before the run, not after
+    if name not in BrushModel.presets():
+        raise ValueError(f"unknown preset {name!r} (choose from {', '.join(BrushModel.presets())})")
+
+
+def _report(name: str, args: argparse.Namespace, run, table) -> int:
+    """Run a benchmark: fail on an unwritable --json target before the run, not after; print
+    its table; write its JSON."""
+    from .bench import report
+
     if args.json:
         report.check_writable(args.json)
-    result = solver.run(preset=args.preset, frames=args.frames, repeats=args.repeats)
-    print(solver.table(result))
+    result = run()
+    print(table(result))
     if args.json:
-        report.write_json(args.json, {"benchmark": "solver", **result})
+        report.write_json(args.json, {"benchmark": name, **result})
     return 0
+
+
+def _progress(msg: str) -> None:
+    print(f"  {msg}", file=sys.stderr)
+
+
+def _solver(args: argparse.Namespace) -> int:
+    from .bench import solver
+
+    _check_preset(args.preset)
+    return _report("solver", args, lambda: solver.run(preset=args.preset, frames=args.frames,
+                                                      repeats=args.repeats), solver.table)
 
 
 def _render_args(p: argparse.ArgumentParser) -> None:
@@ -64,16 +81,10 @@ def _render_args(p: argparse.ArgumentParser) -> None:
 
 
 def _render(args: argparse.Namespace) -> int:
-    from .bench import render, report
+    from .bench import render
 
-    if args.json:
-        report.check_writable(args.json)
-    result = render.run(px=args.px, frames=args.frames, repeats=args.repeats,
-                        progress=lambda msg: print(f"  {msg}", file=sys.stderr))
-    print(render.table(result))
-    if args.json:
-        report.write_json(args.json, {"benchmark": "render", **result})
-    return 0
+    return _report("render", args, lambda: render.run(px=args.px, frames=args.frames, repeats=args.repeats,
+                                                      progress=_progress), render.table)
 
 
 def _footprint_args(p: argparse.ArgumentParser) -> None:
@@ -83,16 +94,10 @@ def _footprint_args(p: argparse.ArgumentParser) -> None:
                    help="override a model field, e.g. --set internal_friction=0.3 (repeatable)")
 
 
-def _footprint(args: argparse.Namespace) -> int:
-    from . import BrushModel
-    from .bench import footprint, report
-
-    if args.preset not in BrushModel.presets():
-        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
-    if args.json:
-        report.check_writable(args.json)
+def _parse_settings(items: list[str]) -> dict:
+    """--set NAME=VALUE items -> {name: bool | int | float}."""
     settings = {}
-    for item in args.set:
+    for item in items:
         name, sep, value = item.partition("=")
         if not sep:
             raise ValueError(f"--set {item!r}: expected NAME=VALUE")
@@ -101,12 +106,18 @@ def _footprint(args: argparse.Namespace) -> int:
             settings[name.strip()] = text == "true"
         else:
             settings[name.strip()] = int(text) if text.lstrip("-").isdigit() else float(text)
-    result = footprint.run(args.preset, progress=lambda msg: print(f"  {msg}", file=sys.stderr),
-                           settings=settings)
-    print(footprint.table(result))
-    if args.json:
-        report.write_json(args.json, {"benchmark": "footprint", **result})
-    return 0
+    return settings
+
+
+def _footprint(args: argparse.Namespace) -> int:
+    from .bench import footprint
+
+    _check_preset(args.preset)
+    settings = _parse_settings(args.set)
+    return _report("footprint", args, lambda: footprint.run(args.preset, progress=_progress, settings=settings),
+                   footprint.table)
+
+
 # bench precision
 def _precision_args(p: argparse.ArgumentParser) -> None:
     from .bench import precision
@@ -166,8 +177,7 @@ def _gallery(args: argparse.Namespace) -> int:
 
     if not 1.0 <= args.px_per_mm <= 40.0:
         raise ValueError(f"--px-per-mm {args.px_per_mm}: expected 1..40")
-    path = render_gallery(args.output, args.px_per_mm,
-                          progress=lambda msg: print(f"  {msg}", file=sys.stderr))
+    path = render_gallery(args.output, args.px_per_mm, progress=_progress)
     print(f"wrote {path}")
     if args.views:
         from .gallery import render_views
@@ -181,11 +191,9 @@ def _params_args(p: argparse.ArgumentParser) -> None:
 
 
 def _params(args: argparse.Namespace) -> int:
-    from . import BrushModel
     from .bench.report import parameter_table
 
-    if args.preset not in BrushModel.presets():
-        raise ValueError(f"unknown preset {args.preset!r} (choose from {', '.join(BrushModel.presets())})")
+    _check_preset(args.preset)
     print(parameter_table(args.preset))
     return 0
 
