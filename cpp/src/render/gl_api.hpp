@@ -21,19 +21,15 @@ namespace brushwork::gl {
   X(void, Clear, (GLbitfield))                                                                 \
   X(void, BlendFunc, (GLenum, GLenum))                                                         \
   X(void, BlendFuncSeparate, (GLenum, GLenum, GLenum, GLenum))                                 \
-  X(void, BlendEquation, (GLenum))                                                             \
   X(void, DepthFunc, (GLenum))                                                                 \
   X(void, DepthMask, (GLboolean))                                                              \
-  X(void, ColorMask, (GLboolean, GLboolean, GLboolean, GLboolean))                             \
   X(void, CullFace, (GLenum))                                                                  \
   X(void, FrontFace, (GLenum))                                                                 \
-  X(void, PolygonOffset, (GLfloat, GLfloat))                                                   \
   X(void, StencilFunc, (GLenum, GLint, GLuint))                                                \
   X(void, StencilOp, (GLenum, GLenum, GLenum))                                                 \
   X(void, ClearStencil, (GLint))                                                               \
   X(void, ReadPixels, (GLint, GLint, GLsizei, GLsizei, GLenum, GLenum, void*))                 \
   X(void, PixelStorei, (GLenum, GLint))                                                        \
-  X(void, Finish, (void))                                                                      \
   X(void, GenTextures, (GLsizei, GLuint*))                                                     \
   X(void, DeleteTextures, (GLsizei, const GLuint*))                                            \
   X(void, BindTexture, (GLenum, GLuint))                                                       \
@@ -51,7 +47,6 @@ namespace brushwork::gl {
   X(void, GenRenderbuffers, (GLsizei, GLuint*))                                                \
   X(void, DeleteRenderbuffers, (GLsizei, const GLuint*))                                       \
   X(void, BindRenderbuffer, (GLenum, GLuint))                                                  \
-  X(void, RenderbufferStorage, (GLenum, GLenum, GLsizei, GLsizei))                             \
   X(void, RenderbufferStorageMultisample, (GLenum, GLsizei, GLenum, GLsizei, GLsizei))         \
   X(void, FramebufferRenderbuffer, (GLenum, GLenum, GLenum, GLuint))                           \
   X(void, BlitFramebuffer,                                                                     \
@@ -63,7 +58,6 @@ namespace brushwork::gl {
   X(void, GetShaderInfoLog, (GLuint, GLsizei, GLsizei*, GLchar*))                              \
   X(GLuint, CreateProgram, (void))                                                             \
   X(void, AttachShader, (GLuint, GLuint))                                                      \
-  X(void, BindAttribLocation, (GLuint, GLuint, const GLchar*))                                 \
   X(void, LinkProgram, (GLuint))                                                               \
   X(void, GetProgramiv, (GLuint, GLenum, GLint*))                                              \
   X(void, GetProgramInfoLog, (GLuint, GLsizei, GLsizei*, GLchar*))                             \
@@ -89,7 +83,6 @@ namespace brushwork::gl {
   X(void, EnableVertexAttribArray, (GLuint))                                                   \
   X(void, DrawElements, (GLenum, GLsizei, GLenum, const void*))                                \
   X(void, DrawElementsInstanced, (GLenum, GLsizei, GLenum, const void*, GLsizei))              \
-  X(void, Uniform1iv, (GLint, GLsizei, const GLint*))                                          \
   X(void, DrawArrays, (GLenum, GLint, GLsizei))
 
 #define BRUSHWORK_GL_DECLARE(ret, name, args) extern ret(*name) args;

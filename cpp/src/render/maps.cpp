@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -50,6 +51,30 @@ void equalise(std::vector<float>& v) {
   for (std::size_t r = 0; r < idx.size(); ++r) v[idx[r]] = static_cast<float>(r * scale);
 }
 
+// one layer of periodic value noise: its seed, lattice cells across x and y, weight
+struct Layer {
+  std::uint32_t seed;
+  int px, py;
+  double weight;
+};
+
+// (rows, cols) row-major: the weighted sum of the layers at texel centres (x across the columns,
+// y down the rows, both in [0, 1)), equalised
+std::vector<float> layered_noise(int rows, int cols, std::initializer_list<Layer> layers) {
+  std::vector<float> out(static_cast<std::size_t>(rows) * cols);
+  for (int r = 0; r < rows; ++r) {
+    const double y = (r + 0.5) / rows;
+    for (int c = 0; c < cols; ++c) {
+      const double x = (c + 0.5) / cols;
+      double v = 0.0;
+      for (const Layer& l : layers) v += l.weight * value_noise(l.seed, l.px, l.py, x, y);
+      out[static_cast<std::size_t>(r) * cols + c] = static_cast<float>(v);
+    }
+  }
+  equalise(out);
+  return out;
+}
+
 }  // namespace
 
 const std::vector<float>& cached(char kind, int rows, int cols, std::uint32_t seed,
@@ -91,39 +116,13 @@ std::vector<float> split_map(int rows, int cols, std::uint32_t seed) {
 }
 
 std::vector<float> dry_map(int rows, int cols, std::uint32_t seed) {
-  std::vector<float> d(static_cast<std::size_t>(rows) * cols);
-  for (int r = 0; r < rows; ++r) {
-    const double s = (r + 0.5) / rows;
-    for (int c = 0; c < cols; ++c) {
-      const double v = (c + 0.5) / cols;
-      // bristle clumps: fine variation around the tuft, slow along it (streaks follow hairs)
-      const double clumps = value_noise(seed, 96, 3, v, s);
-      const double bundles = value_noise(seed + 17u, 24, 2, v, s);
-      const double flecks = value_noise(seed + 31u, 192, 12, v, s);
-      d[static_cast<std::size_t>(r) * cols + c] =
-          static_cast<float>(0.55 * clumps + 0.3 * bundles + 0.15 * flecks);
-    }
-  }
-  equalise(d);
-  return d;
+  // bristle clumps: fine variation around the tuft (x), slow along it (y): streaks follow hairs
+  return layered_noise(rows, cols, {{seed, 96, 3, 0.55}, {seed + 17u, 24, 2, 0.3}, {seed + 31u, 192, 12, 0.15}});
 }
 
 std::vector<float> grain_map(int size, std::uint32_t seed) {
-  std::vector<float> h(static_cast<std::size_t>(size) * size);
-  for (int r = 0; r < size; ++r) {
-    const double y = (r + 0.5) / size;
-    for (int c = 0; c < size; ++c) {
-      const double x = (c + 0.5) / size;
-      // fibres: anisotropic noise, plus two octaves of pits
-      const double fibres = value_noise(seed + 5u, 48, 12, x, y);
-      const double pits = value_noise(seed + 7u, 24, 24, x, y);
-      const double fine = value_noise(seed + 11u, 64, 64, x, y);
-      h[static_cast<std::size_t>(r) * size + c] =
-          static_cast<float>(0.45 * fibres + 0.35 * pits + 0.2 * fine);
-    }
-  }
-  equalise(h);
-  return h;
+  // fibres (anisotropic), pits, and a fine octave
+  return layered_noise(size, size, {{seed + 5u, 48, 12, 0.45}, {seed + 7u, 24, 24, 0.35}, {seed + 11u, 64, 64, 0.2}});
 }
 
 }  // namespace brushwork::maps
