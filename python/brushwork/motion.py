@@ -1,0 +1,271 @@
+"""The calligraphic driver: a glyph's strokes become brush motions on the paper (DESIGN motion.py).
+
+A glyph is laid out in a physical em box (`Style.em_mm`, 100 mm for the medium brush) and written
+stroke by stroke, frame by frame. Like a calligrapher watching the tip, the driver closes two
+loops on what the brush actually does:
+
+- position: the root is placed so that the footprint's centre (area centroid of the core's
+  footprint polygons) follows the centreline; the root-to-footprint offset is learned frame by
+  frame and carried, in the stroke's own frame (along, across), into the next stroke;
+- width: the press depth is adjusted so that the footprint's width across the travel follows
+  the stroke type's width profile (entry press 顿, travel, pressed corners 折, the thinning exit
+  of a left-falling stroke 撇, the flared exit of a right-falling stroke 捺, the dot 点, the
+  rising stroke 提, the hook's flick 钩).
+
+Between strokes the brush lifts, travels in the air and comes down again; ink and wetness carry
+through the character. Styles are data (`styles/*.json`); variation is seeded.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .brush import Brush, Pose
+from .paper import Paper
+from .scene import Scene
+
+STYLE_DIR = Path(__file__).parent / "styles"
+
+# stroke type -> width-profile family (the kinds are CJK Strokes characters, glyphs.STROKE_TYPES)
+FAMILIES = {
+    "tapered": "㇒㇓㇢㇛㇜㇇㇋",        # left-falling: thin out and lift
+    "flared": "㇏㇝",                  # right-falling: press, flare, lift
+    "rising": "㇀㇙㇊",                # rising: start pressed, flick up thin
+    "dot": "㇔",
+    "hook": "㇚㇁㇂㇃㇆㇈㇉㇌㇖㇟㇠㇡",   # a hook's flick at the end
+}
+
+
+def family(kind: str) -> str:
+    """The width-profile family of a stroke type ("plain" for the rest: ㇐ ㇑ ㇕ ㇗ ...)."""
+    for name, kinds in FAMILIES.items():
+        if kind in kinds:
+            return name
+    return "plain"
+
+
+@dataclass
+class Style:
+    """How a hand writes: the brush, the em size, the nominal stroke width, the tilt, the speed,
+    the width profile of each stroke family and the ink. Loaded from `styles/<name>.json`."""
+    name: str
+    description: str = ""
+    preset: str = "medium"
+    em_mm: float = 100.0          # physical size of the em box on the paper, mm
+    width_em: float = 0.06        # nominal stroke width / em
+    tilt_deg: float = 15.0        # handle against the paper's normal, leaning along the travel
+    step_mm: float = 1.0          # travel per frame
+    press_start: float = 0.2      # first guess of the press depth, fraction of the tuft length
+    position_gain: float = 0.8    # fraction of the footprint's position error corrected per frame
+    across_gain: float = 0.8      # the same, across the stroke
+    width_gain: float = 0.06      # press change (L) per unit of relative width error
+    entry_frames: int = 5         # frames pressing down at a stroke's start
+    exit_frames: int = 4          # frames lifting at its end
+    hover: float = 0.12           # height above first contact between strokes, fraction of L
+    ink_mm2: float = 6000.0       # ink the brush is dipped with, mm^2 of paper at full density
+    scene: dict = field(default_factory=lambda: {"depletion": True})
+    jitter: float = 0.03          # seeded relative variation of stroke width and pressure
+    corner_press: float = 1.2     # width factor at a corner of the centreline (折)
+    profiles: dict = field(default_factory=dict)  # family -> [[s in 0..1, width factor], ...]
+
+    @classmethod
+    def load(cls, name_or_path: str) -> "Style":
+        """A style by name (kai, xing) or from a JSON file."""
+        path = Path(name_or_path)
+        if not path.suffix:
+            path = STYLE_DIR / f"{name_or_path}.json"
+        if not path.is_file():
+            known = ", ".join(sorted(p.stem for p in STYLE_DIR.glob("*.json")))
+            raise ValueError(f"unknown style {name_or_path!r} (known: {known})")
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            style = cls(**data)
+        except (json.JSONDecodeError, TypeError) as err:
+            raise ValueError(f"{path}: not a style file: {err}") from err
+        missing = {"plain", "tapered", "flared", "rising", "dot", "hook"} - set(style.profiles)
+        if missing:
+            raise ValueError(f"{path}: profiles lack {', '.join(sorted(missing))}")
+        return style
+
+    @staticmethod
+    def names() -> list[str]:
+        return sorted(p.stem for p in STYLE_DIR.glob("*.json"))
+
+
+def _resample(points: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
+    """(n, 2) points every `step` mm along the polyline and their arc lengths (n,) mm."""
+    seg = np.linalg.norm(np.diff(points, axis=0), axis=1)
+    s = np.concatenate([[0.0], np.cumsum(seg)])
+    n = max(2, int(math.ceil(s[-1] / step)) + 1)
+    ss = np.linspace(0.0, s[-1], n)
+    return np.stack([np.interp(ss, s, points[:, 0]), np.interp(ss, s, points[:, 1])], axis=1), ss
+
+
+def _corners(path: np.ndarray, min_turn_deg: float = 55.0) -> np.ndarray:
+    """(n,) in [0, 1]: how close each point is to a sharp turn of the centreline (1 at it)."""
+    n = len(path)
+    out = np.zeros(n)
+    if n < 5:
+        return out
+    d = np.diff(path, axis=0)
+    ang = np.arctan2(d[:, 1], d[:, 0])
+    for i in range(2, n - 2):
+        turn = abs(math.degrees(math.remainder(ang[i + 1] - ang[i - 2], 2 * math.pi)))
+        if turn >= min_turn_deg:
+            out[max(0, i - 2):i + 3] = np.maximum(out[max(0, i - 2):i + 3], [0.4, 0.8, 1.0, 0.8, 0.4][:min(5, n - max(0, i - 2))])
+    return out
+
+
+def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float, float] | None:
+    """Area centroid (mm) of the footprint polygons, their width across `heading` (mm), and how
+    far they reach behind and ahead of the centroid along `heading` (mm)."""
+    if not loops:
+        return None
+    area, cx, cy = 0.0, 0.0, 0.0
+    for p in loops:
+        x, y = p[:, 0], p[:, 1]
+        xn, yn = np.roll(x, -1), np.roll(y, -1)
+        cr = x * yn - xn * y
+        area += cr.sum() / 2.0
+        cx += ((x + xn) * cr).sum() / 6.0
+        cy += ((y + yn) * cr).sum() / 6.0
+    if abs(area) < 1e-9:
+        return None
+    pts = np.vstack(loops)
+    centre = np.array([cx / area, cy / area])
+    across = np.array([-math.sin(heading), math.cos(heading)])
+    along = (pts - centre) @ np.array([math.cos(heading), math.sin(heading)])
+    return centre, float(np.ptp(pts @ across)), float(-along.min()), float(along.max())
+
+
+class Writer:
+    """Writes glyphs with one brush on one paper; `write(glyph, origin_mm)` draws a character
+    whose em box's bottom-left corner sits at `origin_mm` on the paper."""
+
+    def __init__(self, paper: Paper, style: Style, seed: int = 0):
+        self.paper, self.style = paper, style
+        self.brush = Brush(style.preset)
+        self.rng = np.random.default_rng(seed)
+        self.L = self.brush.model.tuft_length
+        self.press = style.press_start
+        self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
+        self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
+        self.frames = 0
+
+    def _z(self, press: float, tilt: float) -> float:
+        return self.L * math.cos(math.radians(tilt)) - press * self.L
+
+    def _step(self, target: np.ndarray, heading: float, press: float, tilt: float) -> None:
+        c, s = math.cos(heading), math.sin(heading)
+        off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
+                        s * self.offset_local[0] + c * self.offset_local[1]])
+        root = target + off
+        self.brush.step(Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading)))
+        self.paper.deposit(self.brush)
+        self.frames += 1
+
+    def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
+        seen = _centroid_and_width(self.brush.footprint(), heading)
+        st = self.style
+        if seen is None:
+            if width_target is not None:
+                self.press = min(self.press + 0.02, 0.45)   # not touching yet: press on
+            return
+        centre, width, self.behind, self.ahead = seen
+        c, s = math.cos(heading), math.sin(heading)
+        err = target - centre                               # mm, on the paper
+        # along the stroke the offset follows quickly; across it, gently (the footprint's centre
+        # wanders a little from frame to frame, and chasing it widens the stroke)
+        self.offset_local += np.array([st.position_gain * (c * err[0] + s * err[1]),
+                                       st.across_gain * (-s * err[0] + c * err[1])])
+        if width_target is not None:
+            rel = (width_target - width) / max(width_target, 1e-3)
+            self.press = float(np.clip(self.press + st.width_gain * rel, 0.0, 0.45))
+
+    def write_stroke(self, points_mm: np.ndarray, kind: str) -> None:
+        st = self.style
+        path, s = _resample(points_mm, st.step_mm)
+        d = np.gradient(path, axis=0)
+        heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+        length = max(s[-1], 1e-6)
+        prof = np.asarray(st.profiles[family(kind)], dtype=float)
+        w_nom = st.width_em * st.em_mm * (1.0 + st.jitter * self.rng.standard_normal())
+        width = w_nom * np.interp(s / length, prof[:, 0], prof[:, 1])
+        width *= 1.0 + (st.corner_press - 1.0) * _corners(path)
+        tilt = st.tilt_deg
+
+        # the footprint must not reach past the stroke's ends by more than half a width: its
+        # centre's arc length is held within [behind - w/2, length + w/2 - ahead]
+        def target(j: int) -> np.ndarray:
+            half = 0.5 * width[j]
+            lo, hi = self.behind - half, length + half - self.ahead
+            sj = 0.5 * (lo + hi) if lo > hi else float(np.clip(s[j], lo, hi))
+            sj = float(np.clip(sj, 0.0, length))
+            return np.array([np.interp(sj, s, path[:, 0]), np.interp(sj, s, path[:, 1])])
+
+        # come down at the start: while in the air the tip is aimed at the stroke's start (the
+        # tuft lies down from its tip, so the tip marks the stroke's rear end), then pressed
+        self.behind = self.ahead = 0.5 * width[0]
+        c, sn = math.cos(heading[0]), math.sin(heading[0])
+        for j in range(st.entry_frames):
+            t = (j + 1) / st.entry_frames
+            p0 = target(0)
+            self._step(p0, heading[0], -st.hover + (self.press + st.hover) * t, tilt)
+            if not self.brush.footprint():
+                tip = np.asarray(self.brush.skeleton()[-1][:2])
+                err = path[0] - tip
+                self.offset_local += np.array([c * err[0] + sn * err[1], -sn * err[0] + c * err[1]])
+            else:
+                self._observe(p0, heading[0], width[0] if t >= 1.0 else None)
+        # travel
+        for j in range(len(path)):
+            pj = target(j)
+            self._step(pj, heading[j], self.press, tilt)
+            self._observe(pj, heading[j], width[j])
+        # lift while drawing the root back over the footprint (回锋, returning the tip), so the
+        # unbending tuft does not sweep ink past the stroke's end
+        end, h = target(len(path) - 1), heading[-1]
+        back = np.array([math.cos(h), math.sin(h)]) * self.offset_local[0]
+        for j in range(st.exit_frames):
+            t = (j + 1) / st.exit_frames
+            self._step(end - back * t, h, self.press * (1 - t) - st.hover * t, tilt)
+        self.paper.end_stroke()
+
+    def travel(self, to_mm: np.ndarray, heading: float) -> None:
+        """Lift and carry the brush in the air to above `to_mm`, turning toward `heading`."""
+        st = self.style
+        root = np.asarray(self.brush.skeleton()[0][:2])
+        dist = float(np.linalg.norm(to_mm - root))
+        n = int(np.clip(math.ceil(dist / (4.0 * st.step_mm)), 2, 10))
+        for j in range(n):
+            t = (j + 1) / n
+            self.brush.step(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
+                                  self._z(-st.hover, st.tilt_deg)), st.tilt_deg, math.degrees(heading)))
+            self.paper.deposit(self.brush)
+            self.frames += 1
+
+    def write(self, glyph, origin_mm=(0.0, 0.0)) -> None:
+        st = self.style
+        self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
+        o = np.asarray(origin_mm, dtype=float)
+        for stroke in glyph.strokes:
+            pts = o + np.asarray(stroke.points, dtype=float) * st.em_mm
+            d0 = pts[min(1, len(pts) - 1)] - pts[0]
+            h0 = math.atan2(d0[1], d0[0])
+            self.travel(pts[0], h0)
+            self.write_stroke(pts, stroke.kind)
+
+
+def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
+    """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
+    lands where its SVG recipe draws the outlines), with the glyph written on it."""
+    if not 16 <= int(size) <= 8192:
+        raise ValueError(f"size = {size}: expected 16..8192 px")
+    st = style if isinstance(style, Style) else Style.load(style)
+    paper = Paper(st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+    Writer(paper, st, seed).write(glyph)
+    return paper
