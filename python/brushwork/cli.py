@@ -1,5 +1,9 @@
-"""The `brushwork` command line: benchmarks and the demo.
+"""The `brushwork` command line: rendering characters, benchmarks and the demo.
 
+    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent]
+    brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
+    brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
+    brushwork bench batch [--source SPEC] [--count 40] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
@@ -12,7 +16,9 @@ code. ValueError and OSError from a handler print one `brushwork: error: ...` li
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+import time
 from typing import Callable, Optional
 
 Handler = Callable[[argparse.Namespace], int]
@@ -131,16 +137,132 @@ def _precision(args: argparse.Namespace) -> int:
     return precision.handle(args)
 
 
-# benchmarks not written yet: accept anything, say so, exit 2
-def _pending_args(p: argparse.ArgumentParser) -> None:
-    p.set_defaults(accepts_extra=True)
+# rendering characters: render, batch, bench glyphs, bench batch
+SOURCE_HELP = ("where the strokes come from: default (the bundled glyphs, then KanjiVG when installed), "
+               "kanjivg, kanjivg:DIR, mmah:PATH or glyphs:DIR")
 
 
-def _pending(what: str) -> Handler:
-    def handler(args: argparse.Namespace) -> int:
-        print(f"brushwork: not implemented yet: {what}", file=sys.stderr)
-        return 2
-    return handler
+def _look_args(p: argparse.ArgumentParser, size: int = 1024) -> None:
+    """The options every rendering command shares: size, style, source, seed."""
+    from .motion import Style
+
+    p.add_argument("--size", type=int, default=size, help=f"px per character, 16..8192 (default {size})")
+    p.add_argument("--style", default="kai", help=f"writing style: {', '.join(Style.names())} or a JSON file "
+                                                  "(default kai)")
+    p.add_argument("--source", default="default", help=SOURCE_HELP)
+    p.add_argument("--seed", type=int, default=0, help="seed of the style's variation (default 0)")
+
+
+def _image_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--bits", type=int, default=8, help="PNG bits per channel, 8 or 16 (default 8)")
+    p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
+
+
+def _render_text_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("text", help="the characters to write, left to right on one image")
+    p.add_argument("-o", "--output", metavar="FILE", required=True, help="the PNG to write")
+    _look_args(p)
+    _image_args(p)
+
+
+def _render_text(args: argparse.Namespace) -> int:
+    from .batch import check_bits, check_size, parse_charset, text_paper
+    from .bench.report import check_writable
+    from .glyphs import load_source
+    from .motion import Style
+
+    chars = parse_charset(args.text)
+    if not chars:
+        raise ValueError("no characters to render")
+    check_size(args.size)
+    check_bits(args.bits)
+    style = Style.load(args.style)
+    check_writable(args.output)                   # before the work, not after
+    glyphs = load_source(args.source, chars)      # an unknown character: GlyphError naming the source
+    t0 = time.perf_counter()
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed)
+    path = paper.save(args.output, bits=args.bits, background="transparent" if args.transparent else "white")
+    print(f"wrote {path} ({len(chars)} characters, {paper.width_px} x {paper.height_px} px, "
+          f"{time.perf_counter() - t0:.1f} s)")
+    return 0
+
+
+def _batch_args(p: argparse.ArgumentParser) -> None:
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--chars", metavar="TEXT", help="the characters to render")
+    what.add_argument("--charset", metavar="FILE", help="a UTF-8 file of characters (whitespace ignored), "
+                                                        "or a built-in set: gb2312, gb2312-1, gb2312-2")
+    p.add_argument("--out", metavar="DIR", required=True, help="folder for the U+XXXX.png files (made if missing)")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                   help=f"worker processes (default: the CPU count, {os.cpu_count()})")
+    p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
+                                                   "beside a reference Kai font when one is installed")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _look_args(p)
+    _image_args(p)
+
+
+def _batch(args: argparse.Namespace) -> int:
+    from . import batch
+
+    chars = batch.parse_charset(args.chars) if args.chars is not None else batch.read_charset(args.charset)
+    if not chars:
+        raise ValueError("no characters to render")
+    if args.sheet:
+        from .bench.report import check_writable
+
+        check_writable(args.sheet)
+    res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
+                          seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
+                          progress=not args.no_progress)
+    print(batch.summary(res))
+    if args.sheet and not res.interrupted:
+        from .sheet import contact_sheet
+
+        failed = dict(res.failed)
+        print(f"wrote {contact_sheet(batch.sheet_cells(chars, args.out, failed), args.sheet)}")
+    if res.interrupted:
+        return 130
+    return 2 if res.failed else 0
+
+
+def _bench_glyphs_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--source", required=True, help="a source with stroke outlines: mmah:PATH")
+    p.add_argument("--size", type=int, default=512, help="px per character (default 512)")
+    p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the style's variation (default 0)")
+    p.add_argument("--count", type=int, default=None, help="only the first N characters")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: CPU count)")
+    p.add_argument("--sheet", metavar="FILE", default="glyphs_sheet.png",
+                   help="contact sheet of overlays (default glyphs_sheet.png; '' for none)")
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+
+
+def _bench_glyphs(args: argparse.Namespace) -> int:
+    from .bench import glyphs
+
+    if args.sheet:
+        from .bench.report import check_writable
+
+        check_writable(args.sheet)
+    return _report("glyphs", args, lambda: glyphs.run(args.source, args.size, args.count, args.style, args.seed,
+                                                      args.jobs, args.sheet or None), glyphs.table)
+
+
+def _bench_batch_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--source", default="default", help=SOURCE_HELP)
+    p.add_argument("--count", type=int, default=40, help="characters, spread over GB2312 (default 40)")
+    p.add_argument("--size", type=int, default=1024, help="px per character (default 1024)")
+    p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+
+
+def _bench_batch(args: argparse.Namespace) -> int:
+    from .bench import glyphs
+
+    return _report("batch", args, lambda: glyphs.run_batch_bench(args.source, args.count, args.size, args.jobs,
+                                                                 args.style), glyphs.batch_table)
 
 
 # demo (brushwork.demo is someone else's module: imported only when asked for)
@@ -204,7 +326,10 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "solver": ("solver speed, carried vs fresh Hessian", _solver_args, _solver),
     "footprint": ("footprint area and width against press depth and tilt", _footprint_args, _footprint),
     "render": ("deposit cost per frame, minimal vs full scene", _render_args, _render),
-    "glyphs": ("(not implemented yet)", _pending_args, _pending("bench glyphs")),
+    "glyphs": ("the driver's ink against a source's stroke outlines (IoU), with a contact sheet",
+               _bench_glyphs_args, _bench_glyphs),
+    "batch": ("characters per second of `brushwork batch`, and where the time goes", _bench_batch_args,
+              _bench_batch),
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
 }
 
@@ -220,6 +345,8 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 
 # the top-level commands: name -> (help, add_arguments, handler or None when subcommands set it)
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
+    "render": ("write characters with the brush to one PNG", _render_text_args, _render_text),
+    "batch": ("render many characters, one PNG each, in parallel; resumable", _batch_args, _batch),
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
     "params": ("print every brush parameter with its unit, range and value", _params_args, _params),
@@ -247,10 +374,7 @@ def main(argv: list[str] | None = None) -> int:
     """Parse `argv` (default sys.argv[1:]), run the command, return its exit code."""
     parser = build_parser()
     try:
-        # placeholders take any arguments; everything else must parse exactly
-        args, extra = parser.parse_known_args(argv)
-        if extra and not getattr(args, "accepts_extra", False):
-            parser.error(f"unrecognized arguments: {' '.join(extra)}")
+        args = parser.parse_args(argv)
         return int(args.handler(args))
     # user-facing failures: one line, exit 2
     except (ValueError, OSError) as exc:

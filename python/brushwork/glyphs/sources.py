@@ -7,7 +7,49 @@ from . import kanjivg, mmah
 from .jsonfmt import load_glyph
 from .model import Glyph, GlyphError
 
-SPECS = "kanjivg, kanjivg:DIR, mmah:PATH (graphics.txt or a folder of <char>.json) or glyphs:DIR"
+SPECS = "default, kanjivg, kanjivg:DIR, mmah:PATH (graphics.txt or a folder of <char>.json) or glyphs:DIR"
+DEFAULT = "default"
+
+
+def bundled_dir() -> Path:
+    """The glyph files that ship with brushwork (our format): the wheel's brushwork/data/glyphs,
+    or the repository's glyphs/ folder when running from a source tree."""
+    here = Path(__file__).resolve().parent.parent           # .../brushwork
+    for folder in (here / "data" / "glyphs", here.parent.parent / "glyphs"):
+        if folder.is_dir():
+            return folder
+    raise GlyphError("default", "the bundled glyph files are missing from this installation")
+
+
+def _kanjivg_installed() -> bool:
+    try:
+        kanjivg.package_dir()
+    except GlyphError:
+        return False
+    return True
+
+
+def _load_default(chars, variant, errors) -> dict[str, Glyph]:
+    """The default source: the bundled glyph files, then KanjiVG (when installed) for the rest."""
+    folder = bundled_dir()
+    wanted = None if chars is None else list(dict.fromkeys(chars))
+    missing: list = []
+    out = load_source(f"glyphs:{folder}", wanted, errors=missing)
+    unknown = [e.char for e in missing if getattr(e, "char", None)]
+    bad = [e for e in missing if not getattr(e, "char", None)]
+    if wanted is None or unknown:
+        if _kanjivg_installed():
+            rest = load_source("kanjivg", unknown if wanted is not None else None, variant=variant, errors=bad)
+            out.update({c: g for c, g in rest.items() if c not in out})
+        else:
+            bad += [GlyphError("default", f"no glyph for {c!r} (U+{ord(c):04X}) among the bundled ones; "
+                                          "pip install 'brushwork[kanjivg]' for about 6,400 more, or pass "
+                                          "--source") for c in unknown]
+    if bad:
+        if errors is None:
+            raise bad[0]
+        errors.extend(bad)
+    return out if wanted is None else {c: out[c] for c in wanted if c in out}
 
 
 def glyph_file_name(char: str) -> str:
@@ -16,7 +58,9 @@ def glyph_file_name(char: str) -> str:
 
 
 def _unknown(where, char: str) -> GlyphError:
-    return GlyphError(where, f"no glyph for {char!r} (U+{ord(char):04X})")
+    err = GlyphError(where, f"no glyph for {char!r} (U+{ord(char):04X})")
+    err.char = char                      # the default source falls back to KanjiVG for these
+    return err
 
 
 def _from_folder(folder: Path, wanted, name_of, read):
@@ -62,7 +106,7 @@ def load_source(spec: str, chars: str | None = None, *, variant: str | None = No
                 errors: list | None = None) -> dict[str, Glyph]:
     """{char: Glyph} for the requested chars (every glyph the source has when chars is None).
 
-    spec: "kanjivg" (the installed kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs),
+    spec: "default" (the bundled glyph files, then KanjiVG when installed), "kanjivg" (the installed kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs),
     "mmah:PATH" (a graphics.txt file, or a folder of hanzi-writer-data <char>.json files) or
     "glyphs:DIR" (our format, files named U+XXXX.json). variant: a KanjiVG variant such as "Kaisho",
     used where a character has one (the plain file otherwise); "kanjivg#Kaisho" says the same.
@@ -71,6 +115,8 @@ def load_source(spec: str, chars: str | None = None, *, variant: str | None = No
     """
     if not isinstance(spec, str):
         raise GlyphError(repr(spec), f"unknown source; expected {SPECS}")
+    if spec == DEFAULT:
+        return _load_default(chars, variant, errors)
     wanted = None if chars is None else list(dict.fromkeys(chars))
     base, _, hashed = spec.rpartition("#") if spec.startswith("kanjivg") and "#" in spec else (spec, "", "")
     variant = hashed or variant
@@ -106,6 +152,7 @@ def load_source(spec: str, chars: str | None = None, *, variant: str | None = No
     for char, got in items:
         handled.add(char)
         if isinstance(got, GlyphError):
+            got.char = char                  # which character it was, for a batch's report
             if errors is None:
                 raise got
             errors.append(got)

@@ -1,0 +1,245 @@
+"""Rendering characters to PNG files: one text on one image (`brushwork render`) or a whole set
+of characters, one file each, in parallel (`brushwork batch`).
+
+A batch is resumable: outputs are named by code point (U+6C38.png), every write is atomic (a
+temporary file renamed into place), and a file that already exists is skipped, so an interrupted
+batch run again picks up where it stopped. A character that fails (unknown to the source, a bad
+glyph file, a rendering error) is reported at the end and the rest go on; the exit code is then 2.
+"""
+from __future__ import annotations
+
+import multiprocessing as mp
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .glyphs import GlyphError, load_source
+from .motion import Style, Writer
+from .paper import Paper
+from .scene import Scene
+
+MAX_SIDE = 32768     # px: the paper's largest side
+
+
+def output_name(char: str) -> str:
+    """The batch's file name for char: U+XXXX.png (upper-case hex, at least 4 digits)."""
+    return f"U+{ord(char):04X}.png"
+
+
+def check_size(size: int) -> int:
+    size = int(size)
+    if not 16 <= size <= 8192:
+        raise ValueError(f"--size {size}: expected 16..8192 px")
+    return size
+
+
+def check_bits(bits: int) -> int:
+    if bits not in (8, 16):
+        raise ValueError(f"--bits {bits}: expected 8 or 16")
+    return bits
+
+
+def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
+    """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
+    per glyph filling a size x size square, by one brush: ink and wetness carry from character
+    to character (re-dipped at each), as in a hand-written line."""
+    size = check_size(size)
+    st = style if isinstance(style, Style) else Style.load(style)
+    n = len(glyphs)
+    if n == 0:
+        raise ValueError("no characters to render")
+    if n * size > MAX_SIDE:
+        raise ValueError(f"{n} characters x {size} px = {n * size} px wide: more than {MAX_SIDE}; "
+                         "use a smaller --size or `brushwork batch`")
+    paper = Paper(n * st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+    writer = Writer(paper, st, seed)
+    for k, glyph in enumerate(glyphs):
+        writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
+    return paper
+
+
+def parse_charset(text: str) -> str:
+    """The characters of a charset: every non-space character, in order, duplicates dropped."""
+    return "".join(dict.fromkeys(c for c in text if not c.isspace()))
+
+
+CHARSETS = {"gb2312": None, "gb2312-1": 1, "gb2312-2": 2}    # built-in charsets: name -> GB2312 level
+
+
+def read_charset(path: str | os.PathLike) -> str:
+    """A charset file's characters; the names gb2312, gb2312-1 and gb2312-2 are built in."""
+    if str(path).lower() in CHARSETS and not Path(path).exists():
+        return gb2312(CHARSETS[str(path).lower()])
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except UnicodeDecodeError as err:
+        raise ValueError(f"{path}: not UTF-8 text: {err}") from None
+    chars = parse_charset(text)
+    if not chars:
+        raise ValueError(f"{path}: no characters in the charset file")
+    return chars
+
+
+def gb2312(level: int | None = None) -> str:
+    """GB2312's hanzi in code order: level 1 (3,755, by pinyin), level 2 (3,008, by radical), or
+    both (6,763) when level is None; decoded through Python's gb2312 codec."""
+    rows = {1: range(0xB0, 0xD8), 2: range(0xD8, 0xF8), None: range(0xB0, 0xF8)}[level]
+    out = []
+    for hi in rows:
+        for lo in range(0xA1, 0xFF):
+            try:
+                out.append(bytes((hi, lo)).decode("gb2312"))
+            except UnicodeDecodeError:
+                pass            # the unassigned tail of row 0xD7
+    return "".join(out)
+
+
+# --- the worker side (one process per job; each owns a brush, a GL context and its papers) ---
+_JOB: dict = {}
+
+
+def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str) -> None:
+    _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background)
+
+
+def _render_one(task: tuple) -> tuple:
+    """(char, Glyph, output path) -> (char, seconds, error text or None, ink fraction)."""
+    char, glyph, out = task
+    t0 = time.perf_counter()
+    try:
+        paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"])
+        paper.save(out, bits=_JOB["bits"], background=_JOB["background"])
+        ink = float(np.mean(paper.ink() > 0.5))
+    except Exception as err:     # reported at the end with the character; the batch goes on
+        return char, time.perf_counter() - t0, f"{type(err).__name__}: {err}", 0.0
+    return char, time.perf_counter() - t0, None, ink
+
+
+@dataclass
+class BatchResult:
+    written: list = field(default_factory=list)    # characters rendered in this run
+    skipped: list = field(default_factory=list)    # already there from an earlier run
+    failed: list = field(default_factory=list)     # (char, one-line reason)
+    seconds: float = 0.0
+    interrupted: bool = False
+
+    @property
+    def chars_per_s(self) -> float:
+        return len(self.written) / self.seconds if self.seconds > 0 else 0.0
+
+
+class Progress:
+    """A progress bar on stderr: redrawn in place on a terminal, a line every few seconds otherwise."""
+
+    def __init__(self, total: int, stream=None, every_s: float = 5.0):
+        self.total, self.done, self.failed = total, 0, 0
+        self.stream = stream or sys.stderr
+        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.t0 = self.last = time.monotonic()
+        self.every = every_s
+
+    def update(self, ok: bool) -> None:
+        self.done += 1
+        self.failed += 0 if ok else 1
+        now = time.monotonic()
+        if self.tty or now - self.last >= self.every or self.done == self.total:
+            self.last = now
+            self._draw(now)
+
+    def _draw(self, now: float) -> None:
+        rate = self.done / max(now - self.t0, 1e-9)
+        left = (self.total - self.done) / rate if rate > 0 else 0.0
+        filled = int(30 * self.done / max(self.total, 1))
+        line = (f"[{'#' * filled}{'.' * (30 - filled)}] {self.done}/{self.total}  {rate:.2f} chars/s  "
+                f"ETA {int(left // 60)}:{int(left % 60):02d}" + (f"  {self.failed} failed" if self.failed else ""))
+        self.stream.write(("\r" + line) if self.tty else (line + "\n"))
+        self.stream.flush()
+
+    def close(self) -> None:
+        if self.tty:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
+              size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
+              progress: bool = True, variant: str | None = None) -> BatchResult:
+    """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there."""
+    size, bits = check_size(size), check_bits(bits)
+    Style.load(style)                                        # a bad style fails now, not in every worker
+    jobs = int(jobs)
+    if jobs < 1:
+        raise ValueError(f"--jobs {jobs}: expected >= 1")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    if not os.access(out, os.W_OK):
+        raise PermissionError(f"cannot write into {out}: the folder is not writable")
+    result = BatchResult()
+    todo = []
+    for c in dict.fromkeys(chars):
+        (result.skipped if (out / output_name(c)).is_file() else todo).append(c)
+    errors: list = []
+    glyphs = load_source(source, "".join(todo), variant=variant, errors=errors) if todo else {}
+    result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
+    tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
+    bar = Progress(len(tasks)) if progress and tasks else None
+    t0 = time.perf_counter()
+    init = (style, size, seed, bits, background)
+    try:
+        for char, _secs, err, _ink in parallel_map(_render_one, tasks, jobs, _init_worker, init):
+            if err is None:
+                result.written.append(char)
+            else:
+                result.failed.append((char, err))
+            if bar is not None:
+                bar.update(err is None)
+    except KeyboardInterrupt:
+        result.interrupted = True
+    finally:
+        result.seconds = time.perf_counter() - t0
+        if bar is not None:
+            bar.close()
+    return result
+
+
+def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple):
+    """fn over tasks in `jobs` worker processes (in this one when jobs is 1), results in the order
+    they finish. Workers are spawned, not forked: a forked child must not inherit a GL context."""
+    if jobs == 1 or len(tasks) <= 1:
+        initializer(*initargs)
+        yield from map(fn, tasks)
+        return
+    with mp.get_context("spawn").Pool(min(jobs, len(tasks)), initializer, initargs) as pool:
+        yield from pool.imap_unordered(fn, tasks)
+
+
+def sheet_cells(chars: str, out_dir: str | os.PathLike, failed: dict) -> list:
+    """Contact-sheet cells for chars from the PNGs in out_dir (a crossed box where one failed)."""
+    import cv2
+
+    from .sheet import Cell
+
+    cells = []
+    for c in dict.fromkeys(chars):
+        path = Path(out_dir) / output_name(c)
+        img = cv2.imread(str(path), cv2.IMREAD_GRAYSCALE) if path.is_file() else None
+        if img is not None and img.dtype != np.uint8:
+            img = (img // 257).astype(np.uint8)
+        note = "failed" if c in failed else ""
+        cells.append(Cell(c, img, note))
+    return cells
+
+
+def summary(result: BatchResult) -> str:
+    """The lines printed at the end of a batch."""
+    lines = [f"{len(result.written)} written, {len(result.skipped)} already there, {len(result.failed)} failed"
+             f" in {result.seconds:.1f} s ({result.chars_per_s:.2f} chars/s)"]
+    if result.interrupted:
+        lines.append("interrupted: run the same command again to resume (finished files are kept)")
+    for char, why in result.failed:
+        lines.append(f"  failed {char} (U+{ord(char):04X}): {why}" if char != "?" else f"  failed: {why}")
+    return "\n".join(lines)

@@ -1,0 +1,208 @@
+"""Glyph benchmarks: how close the driver's ink comes to a source's stroke outlines (`bench glyphs`)
+and how many characters a second a batch renders (`bench batch`).
+
+`bench glyphs --source mmah:PATH` renders every character of a Make Me a Hanzi source with the
+default kai style at 512 px, its em box filling the image as the data's SVG recipe draws it, and
+scores the ink mask (coverage > 0.5) against the union of the stroke outlines by IoU. It prints the
+mean, the 10th percentile and the worst, lists the worst characters, and writes a contact sheet of
+overlays (black: ink inside the outline; red: ink outside it; pink: outline the ink missed) beside
+the same characters from a reference Kai font when one is installed.
+
+`bench batch` runs `brushwork batch` on a sample of GB2312 characters at 1024 px with two jobs and
+reports characters per second, then times one process's frames to say where the time goes.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+import time
+
+import numpy as np
+
+from .. import batch as bt
+from ..glyphs import load_source
+from ..glyphs.score import has_outlines, iou, outline_mask
+from ..motion import Style, Writer
+from ..paper import Paper
+from ..scene import Scene
+
+OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
+
+_JOB: dict = {}
+
+
+def _init(style: str, size: int, seed: int) -> None:
+    _JOB.update(style=Style.load(style), size=size, seed=seed)
+
+
+def overlay(ink: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """(h, w, 3) uint8 BGR: ink inside the outline black, ink outside red, missed outline pink."""
+    img = np.full(ink.shape + (3,), 255, np.uint8)
+    img[ref] = (200, 200, 255)
+    img[ink & ref] = (0, 0, 0)
+    img[ink & ~ref] = (0, 0, 230)
+    return img
+
+
+def _score(task: tuple) -> tuple:
+    """(char, Glyph) -> (char, IoU or None, seconds, overlay (OVERLAY_PX^2 BGR) or None, error or None)."""
+    import cv2
+
+    char, glyph = task
+    t0 = time.perf_counter()
+    try:
+        paper = bt.text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"])
+        ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
+        ref = outline_mask(glyph, _JOB["size"])
+        small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
+        return char, iou(ink, ref), time.perf_counter() - t0, small, None
+    except Exception as err:        # one character's failure is reported, the rest go on
+        return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
+
+
+def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
+        jobs: int = 1, sheet: str | None = None, progress: bool = True) -> dict:
+    """Score the driver against the outlines of `source` (every character, or the first `count`)."""
+    size = bt.check_size(size)
+    Style.load(style)
+    errors: list = []
+    glyphs = load_source(source, None, errors=errors)
+    if count is not None:
+        glyphs = dict(list(glyphs.items())[:count])
+    if not glyphs:
+        raise ValueError(f"{source}: no glyphs to score")
+    lacking = [c for c, g in glyphs.items() if not has_outlines(g)]
+    if lacking:
+        raise ValueError(f"{source}: {len(lacking)} glyphs carry no stroke outlines to score against "
+                         "(use a Make Me a Hanzi source, mmah:PATH)")
+    bar = bt.Progress(len(glyphs)) if progress else None
+    rows, overlays, failed = {}, {}, [(getattr(e, "char", "?"), str(e)) for e in errors]
+    t0 = time.perf_counter()
+    try:
+        for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
+                                                              (style, size, seed)):
+            if err is None:
+                rows[char], overlays[char] = (score, secs), small
+            else:
+                failed.append((char, err))
+            if bar is not None:
+                bar.update(err is None)
+    finally:
+        if bar is not None:
+            bar.close()
+    wall = time.perf_counter() - t0
+    order = [c for c in glyphs if c in rows]
+    scores = np.array([rows[c][0] for c in order])
+    worst = sorted(order, key=lambda c: rows[c][0])[:10]
+    result = {
+        "source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
+        "characters": len(order), "failed": failed,
+        "mean_iou": float(scores.mean()) if len(scores) else None,
+        "p10_iou": float(np.percentile(scores, 10)) if len(scores) else None,
+        "worst_iou": float(scores.min()) if len(scores) else None,
+        "worst": [[c, rows[c][0]] for c in worst],
+        "chars_per_s": len(order) / wall if wall > 0 else None,
+        "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "seconds": rows[c][1]}
+                 for c in order],
+    }
+    if sheet:
+        from ..sheet import Cell, contact_sheet
+
+        cells = [Cell(c, overlays.get(c), f"IoU {rows[c][0]:.3f}" if c in rows else "failed") for c in glyphs]
+        result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
+    return result
+
+
+def table(result: dict) -> str:
+    lines = [f"bench glyphs: {result['characters']} characters of {result['source']} at {result['size']} px, "
+             f"style {result['style']}, seed {result['seed']}",
+             "",
+             "| ink IoU against the outlines | value |",
+             "|---|---|",
+             f"| mean | {result['mean_iou']:.3f} |",
+             f"| 10th percentile | {result['p10_iou']:.3f} |",
+             f"| worst | {result['worst_iou']:.3f} |",
+             "",
+             "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
+             f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
+    if result.get("sheet"):
+        lines.append(f"contact sheet: {result['sheet']}")
+    for char, why in result["failed"]:
+        lines.append(f"failed {char}: {why}")
+    return "\n".join(lines)
+
+
+# --- bench batch: throughput ---
+
+class _Timed:
+    """Wraps a bound method and adds its wall time to a counter."""
+
+    def __init__(self, fn, name: str, counters: dict):
+        self.fn, self.name, self.counters = fn, name, counters
+
+    def __call__(self, *a, **k):
+        t0 = time.perf_counter()
+        try:
+            return self.fn(*a, **k)
+        finally:
+            self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
+
+
+def breakdown(glyphs: list, size: int, style: str = "kai") -> dict:
+    """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
+    step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
+    st = Style.load(style)
+    counters: dict = {}
+    frames = 0
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, glyph in enumerate(glyphs):
+            paper = Paper(st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+            writer = Writer(paper, st, k)
+            writer.brush.step = _Timed(writer.brush.step, "step", counters)
+            paper.deposit = _Timed(paper.deposit, "deposit", counters)
+            writer.write(glyph)
+            frames += writer.frames
+            ts = time.perf_counter()
+            paper.save(os.path.join(tmp, "g.png"))
+            counters["save"] = counters.get("save", 0.0) + time.perf_counter() - ts
+    total = time.perf_counter() - t0
+    counters["driver and the rest"] = total - sum(counters.values())
+    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
+
+
+def run_batch_bench(source: str = "default", count: int = 40, size: int = 1024, jobs: int = 2,
+                    style: str = "kai", progress: bool = True) -> dict:
+    """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
+    across the set (those the source has), then one process's time breakdown on a few of them."""
+    size = bt.check_size(size)
+    pool = bt.gb2312()
+    errors: list = []
+    have = load_source(source, pool, errors=errors)
+    if not have:
+        raise ValueError(f"{source}: none of GB2312's characters are in this source")
+    chars = list(have)
+    picked = [chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))]
+    text = "".join(dict.fromkeys(picked))
+    with tempfile.TemporaryDirectory() as tmp:
+        res = bt.run_batch(text, tmp, source=source, jobs=jobs, size=size, style=style, progress=progress)
+    parts = breakdown([have[c] for c in text[:4]], size, style)
+    return {"source": source, "size": size, "jobs": jobs, "style": style, "characters": len(res.written),
+            "failed": res.failed, "seconds": res.seconds, "chars_per_s": res.chars_per_s,
+            "gb2312_hours": len(bt.gb2312()) / res.chars_per_s / 3600.0 if res.chars_per_s else None,
+            "breakdown": parts}
+
+
+def batch_table(result: dict) -> str:
+    b = result["breakdown"]
+    lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
+             f"{result['jobs']} jobs: {result['chars_per_s']:.2f} characters/s "
+             f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
+             "",
+             f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",
+             "| part | s/char | share |", "|---|---|---|"]
+    for name, secs in sorted(b["parts"].items(), key=lambda kv: -kv[1]):
+        lines.append(f"| {name} | {secs / b['characters']:.3f} | {100 * secs / b['seconds']:.0f}% |")
+    for char, why in result["failed"]:
+        lines.append(f"failed {char}: {why}")
+    return "\n".join(lines)

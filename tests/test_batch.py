@@ -1,0 +1,209 @@
+"""Writing characters: the driver's ink against the outlines, `brushwork render` and `brushwork batch`
+(names, resuming, failures, bad input), contact sheets, the default source and GB2312."""
+import json
+import os
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+
+from brushwork import batch, cli
+from brushwork.bench import glyphs as bench_glyphs
+from brushwork.glyphs import GlyphError, load_source
+from brushwork.glyphs import sources as glyph_sources
+from brushwork.glyphs.score import iou, outline_mask
+from brushwork.motion import Style, render_glyph
+from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
+
+DATA = Path(__file__).resolve().parent / "data"
+MMAH = f"mmah:{DATA / 'mmah' / 'graphics.txt'}"
+SIZE = 128          # px: small and quick; the driver works in mm, so the size only samples it
+
+
+def run_cli(*argv):
+    return cli.main([str(a) for a in argv])
+
+
+@pytest.fixture(scope="module")
+def mmah_glyphs():
+    return load_source(MMAH, "永和明")
+
+
+@pytest.fixture(scope="module")
+def written(mmah_glyphs):
+    """{char: (SIZE, SIZE) bool ink mask} of the driver's kai rendering."""
+    return {c: render_glyph(g, SIZE).ink() > 0.5 for c, g in mmah_glyphs.items()}
+
+
+def test_ink_lands_on_the_characters_own_outlines(mmah_glyphs, written):
+    # each character's ink overlaps its own outlines far better than another character's: the
+    # em box maps onto the image as the MMAH recipe draws it, and the strokes follow the medians
+    for c, ink in written.items():
+        own = iou(ink, outline_mask(mmah_glyphs[c], SIZE))
+        others = [iou(ink, outline_mask(g, SIZE)) for d, g in mmah_glyphs.items() if d != c]
+        assert own > 0.55, (c, own)
+        assert own > max(others) + 0.2, (c, own, others)
+
+
+def test_same_seed_same_ink_other_seed_other_ink(mmah_glyphs, written):
+    g = mmah_glyphs["永"]
+    again = render_glyph(g, SIZE).ink() > 0.5
+    assert np.array_equal(again, written["永"])
+    other = render_glyph(g, SIZE, seed=7).ink() > 0.5
+    assert not np.array_equal(other, written["永"])
+    assert iou(other, written["永"]) > 0.7          # varied, not a different character
+
+
+def test_styles_load_and_bad_styles_are_named(tmp_path):
+    assert {"kai", "xing"} <= set(Style.names())
+    with pytest.raises(ValueError, match="unknown style 'caoshu'"):
+        Style.load("caoshu")
+    bad = tmp_path / "mine.json"
+    bad.write_text("{not json", encoding="utf-8")
+    with pytest.raises(ValueError, match="mine.json: not a style file"):
+        Style.load(str(bad))
+
+
+def test_render_writes_a_row_of_characters(tmp_path, capsys):
+    out = tmp_path / "yong.png"
+    assert run_cli("render", "永和", "-o", out, "--size", SIZE) == 0
+    img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
+    assert img.shape == (SIZE, 2 * SIZE, 3) and img.dtype == np.uint8
+    ink = img[:, :, 0] < 128
+    # both cells hold a character
+    assert ink[:, :SIZE].mean() > 0.05 and ink[:, SIZE:].mean() > 0.05
+    assert "wrote" in capsys.readouterr().out
+
+
+def test_render_16_bit_on_transparency(tmp_path):
+    out = tmp_path / "yong16.png"
+    assert run_cli("render", "永", "-o", out, "--size", 64, "--bits", 16, "--transparent") == 0
+    img = cv2.imread(str(out), cv2.IMREAD_UNCHANGED)
+    assert img.shape == (64, 64, 4) and img.dtype == np.uint16
+    alpha = img[:, :, 3]
+    assert alpha.min() == 0 and alpha.max() > 60000      # paper transparent, ink opaque
+
+
+def bad_glyph_dir(tmp_path, name, text):
+    folder = tmp_path / "src"
+    folder.mkdir(exist_ok=True)
+    (folder / name).write_text(text, encoding="utf-8")
+    return folder
+
+
+GOOD = {"format": "brushwork-glyph", "version": 1, "char": "十", "codepoint": 0x5341, "em_box": [0, 0, 100, 100],
+        "y_down": True, "strokes": [{"kind": "㇐", "points": [[10, 40], [90, 40]]}]}
+
+
+@pytest.mark.parametrize("text, problem", [
+    ("{", "malformed JSON"),
+    (json.dumps({**GOOD, "strokes": [{"kind": "㇐", "points": []}]}), "strokes[0].points"),
+    (json.dumps({**GOOD, "strokes": [{"kind": "㇐", "points": [[10, 40], ["NaN", 40]]}]}), "strokes[0].points"),
+    (json.dumps({**GOOD, "strokes": [{"kind": "㇐", "d": "M 10 40 Q 90"}]}), "svg path"),
+])
+def test_render_bad_glyph_file_is_one_line_exit_2_no_file(tmp_path, capsys, text, problem):
+    folder = bad_glyph_dir(tmp_path, "U+5341.json", text)
+    out = tmp_path / "out.png"
+    assert run_cli("render", "十", "-o", out, "--size", 64, "--source", f"glyphs:{folder}") == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "U+5341.json" in err and problem in err, err
+    assert not out.exists() and not list(tmp_path.glob(".brushwork-*"))
+
+
+def test_render_unknown_character_and_unwritable_output(tmp_path, capsys):
+    assert run_cli("render", "十", "-o", tmp_path / "a.png", "--source", f"glyphs:{tmp_path}") == 2
+    assert "no glyph for '十' (U+5341)" in capsys.readouterr().err
+    assert run_cli("render", "永", "-o", tmp_path / "missing" / "a.png") == 2
+    assert "no such folder" in capsys.readouterr().err
+    locked = tmp_path / "locked"
+    locked.mkdir()
+    locked.chmod(0o500)
+    try:
+        if not os.access(locked, os.W_OK):           # root ignores the mode bits
+            assert run_cli("render", "永", "-o", locked / "a.png") == 2
+            assert "not writable" in capsys.readouterr().err
+    finally:
+        locked.chmod(0o700)
+    assert run_cli("render", "永", "-o", tmp_path / "b.png", "--size", 9000) == 2
+    assert "expected 16..8192" in capsys.readouterr().err
+    assert run_cli("render", "永", "-o", tmp_path / "c.png", "--style", "nope") == 2
+    assert "unknown style" in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.png"))
+
+
+def test_batch_names_resumes_and_reports_failures(tmp_path, capsys):
+    out = tmp_path / "out"
+    rc = run_cli("batch", "--chars", "永和x明", "--out", out, "--size", 64, "--jobs", 2, "--source", MMAH,
+                 "--no-progress")
+    captured = capsys.readouterr().out
+    assert rc == 2                                   # x failed, the rest were written
+    assert sorted(p.name for p in out.iterdir()) == ["U+548C.png", "U+660E.png", "U+6C38.png"]
+    assert "3 written, 0 already there, 1 failed" in captured and "failed x (U+0078)" in captured
+    stamp = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    # run again with one more: the finished files are skipped, not redone
+    rc = run_cli("batch", "--chars", "永和明它", "--out", out, "--size", 64, "--jobs", 1, "--source", MMAH,
+                 "--sheet", tmp_path / "sheet.png", "--no-progress")
+    captured = capsys.readouterr().out
+    assert rc == 0 and "1 written, 3 already there, 0 failed" in captured
+    assert all((out / n).stat().st_mtime_ns == t for n, t in stamp.items())
+    sheet = cv2.imread(str(tmp_path / "sheet.png"))
+    assert sheet is not None and sheet.shape[0] > 100
+    assert not list(out.glob(".brushwork-*"))        # no temporary file left behind
+
+
+def test_batch_charset_files(tmp_path):
+    cs = tmp_path / "set.txt"
+    cs.write_text("永 和\n永明\n", encoding="utf-8")
+    assert batch.read_charset(cs) == "永和明"
+    empty = tmp_path / "empty.txt"
+    empty.write_text(" \n", encoding="utf-8")
+    with pytest.raises(ValueError, match="no characters"):
+        batch.read_charset(empty)
+    assert len(batch.read_charset("gb2312")) == 6763
+    level1 = batch.gb2312(1)
+    assert len(level1) == 3755 and level1[0] == "啊"
+
+
+def test_progress_lines_when_not_a_terminal():
+    import io
+
+    log = io.StringIO()
+    bar = batch.Progress(3, stream=log, every_s=0.0)
+    for ok in (True, False, True):
+        bar.update(ok)
+    bar.close()
+    lines = log.getvalue().splitlines()
+    assert len(lines) == 3 and lines[-1].startswith("[" + "#" * 30 + "] 3/3") and "1 failed" in lines[-1]
+
+
+def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
+    res = bench_glyphs.run(MMAH, size=SIZE, count=2, jobs=1, sheet=str(tmp_path / "s.png"), progress=False)
+    assert res["characters"] == 2 and len(res["rows"]) == 2
+    assert res["worst_iou"] <= res["p10_iou"] <= res["mean_iou"] <= 1.0
+    assert res["worst"][0][1] == res["worst_iou"]
+    assert cv2.imread(res["sheet"]) is not None
+    with pytest.raises(ValueError, match="no stroke outlines"):
+        bench_glyphs.run("glyphs:" + str(Path(glyph_sources.bundled_dir())), size=32, count=1, progress=False)
+
+
+def test_contact_sheet_with_and_without_a_reference_font(tmp_path):
+    img = np.full((50, 50), 255, np.uint8)
+    img[10:40, 20:30] = 0
+    cells = [Cell("十", img, "note"), Cell("永", None, "failed")]
+    plain = cv2.imread(contact_sheet(cells, tmp_path / "a.png", cell_px=64, columns=2, reference_font=False))
+    font = find_reference_font()
+    if font is None:
+        pytest.skip("no Kai reference font installed (apt install fonts-arphic-ukai)")
+    paired = cv2.imread(contact_sheet(cells, tmp_path / "b.png", cell_px=64, columns=2))
+    assert paired.shape[1] > plain.shape[1]          # the reference column beside each
+    ref = FontDrawer(font).draw("十", 64)
+    assert ref.shape == (64, 64) and ref.max() > 200 and (ref > 128).mean() > 0.02
+
+
+def test_default_source_bundled_then_kanjivg(monkeypatch):
+    g = load_source("default", "永")["永"]
+    assert g.source.startswith("glyphs:")
+    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
+    with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
+        load_source("default", "鬱")
