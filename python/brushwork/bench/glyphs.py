@@ -206,3 +206,44 @@ def batch_table(result: dict) -> str:
     for char, why in result["failed"]:
         lines.append(f"failed {char}: {why}")
     return "\n".join(lines)
+
+
+# --- the end of the pipeline for `bench precision`: a character's ink under solver settings ---
+
+REFERENCE_SOLVE = {"q_max": 100000, "tolerance": 1e-10}   # "no iteration cap", a tight KKT tolerance
+
+
+def written_ink(glyph, overrides: dict | None = None, size: int = 512, style: str = "kai") -> np.ndarray:
+    """(size, size) bool ink mask of glyph written by the driver with a brush whose model fields
+    are changed by `overrides` (e.g. {"q_max": 5}); the driver's own loops run as in a batch."""
+    st = Style.load(style)
+    paper = Paper(st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+    writer = Writer(paper, st, 0)
+    if overrides:
+        from ..brush import Brush
+
+        model = writer.brush.model
+        for name, value in overrides.items():
+            if not hasattr(model, name):
+                raise ValueError(f"unknown brush model field {name!r}")
+            setattr(model, name, value)
+        writer.brush = Brush(model)
+    writer.write(glyph)
+    return paper.ink() > 0.5
+
+
+class InkMaskIoU:
+    """(overrides) -> IoU of one character's ink, written with those solver settings, against the
+    same character written with REFERENCE_SOLVE: how far a solver setting's error carries to the
+    ink at the end of the pipeline. The character is 永 from the bundled glyphs (its eight
+    basic strokes); the reference is rendered once."""
+
+    def __init__(self, char: str = "永", size: int = 512):
+        self.char, self.size = char, size
+        self.glyph = load_source("default", char)[char]
+        self._ref = None
+
+    def __call__(self, overrides: dict) -> float:
+        if self._ref is None:
+            self._ref = written_ink(self.glyph, REFERENCE_SOLVE, self.size)
+        return iou(written_ink(self.glyph, overrides, self.size), self._ref)
