@@ -88,7 +88,7 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
       .def_readonly("contact", &DepositStats::contact)
       .def_readonly("new_stroke", &DepositStats::new_stroke)
       .def_readonly("substeps", &DepositStats::substeps)
-      .def_readonly("slides", &DepositStats::slides, "copies of each footprint slid along its move")
+      .def_readonly("slides", &DepositStats::slides, "copies of a footprint slid along its move (the larger of the last and this part's count)")
       .def_readonly("deposited", &DepositStats::deposited, "mm^2 (depletion scenes)")
       .def_readonly("rect", &DepositStats::rect, "px (x0, y0, x1, y1), y up, exclusive")
       .def("__repr__", [](const DepositStats& s) {

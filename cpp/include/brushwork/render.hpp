@@ -117,7 +117,8 @@ struct DepositStats {
   bool contact = false;        // some of the surface was below the paper
   bool new_stroke = false;     // this deposit started a stroke
   int substeps = 0;            // footprints swept between the last deposit and this one
-  int slides = 0;              // copies of each footprint slid along its move (0: blend only)
+  int slides = 0;              // copies of a footprint slid along its move, the larger of the
+                               // last and this part's count (0: blend only)
   double deposited = 0.0;      // mm^2 of full-density ink given to the paper (depletion only)
   std::array<int, 4> rect{{0, 0, 0, 0}};  // px x0, y0, x1, y1 (exclusive) touched, y up
 };

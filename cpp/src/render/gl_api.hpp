@@ -68,6 +68,7 @@ namespace brushwork::gl {
   X(void, Uniform1i, (GLint, GLint))                                                           \
   X(void, Uniform1f, (GLint, GLfloat))                                                         \
   X(void, Uniform2f, (GLint, GLfloat, GLfloat))                                                \
+  X(void, Uniform2i, (GLint, GLint, GLint))                                                  \
   X(void, Uniform3f, (GLint, GLfloat, GLfloat, GLfloat))                                       \
   X(void, Uniform4f, (GLint, GLfloat, GLfloat, GLfloat, GLfloat))                              \
   X(void, Uniform1fv, (GLint, GLsizei, const GLfloat*))                                        \

@@ -463,6 +463,21 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const bool both = both_below && (std::min(wp, wc) < 0.5 * std::max(wp, wc) ||
                                    move_mm > 0.5 * std::min(pside, cside));
   const double shift_x = both ? ccx / wc - pcx / wp : 0.0, shift_y = both ? ccy / wc - pcy / wp : 0.0;
+  // each part's extent along the shift and across it (mm): the slid copies of a part leave no
+  // gap while they are spaced closer than its extent along the move
+  double pext[4] = {1e300, -1e300, 1e300, -1e300}, cext[4] = {1e300, -1e300, 1e300, -1e300};
+  if (both) {
+    const double len = std::hypot(shift_x, shift_y), ux = shift_x / len, uy = shift_y / len;
+    auto extend = [&](double* e, double x, double y) {
+      const double a = ux * x + uy * y, b = -uy * x + ux * y;
+      e[0] = std::min(e[0], a), e[1] = std::max(e[1], a), e[2] = std::min(e[2], b), e[3] = std::max(e[3], b);
+    };
+    for (int v = 0; v < V; ++v) {
+      if (placed(cur.position, cur.center, v, 2) < 0.0)
+        extend(cext, placed(cur.position, cur.center, v, 0), placed(cur.position, cur.center, v, 1));
+      if (placed(prev, prev_c, v, 2) < 0.0) extend(pext, placed(prev, prev_c, v, 0), placed(prev, prev_c, v, 1));
+    }
+  }
   for (int v = 0; v < V; ++v) {
     if (!used[v]) continue;
     const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
@@ -491,13 +506,28 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   // sub-steps of the sweep: close enough that consecutive footprints overlap and the
   // scallops between them stay under a quarter pixel (a disc of radius r spaced d apart
   // leaves scallops d^2 / 8r deep); r from the smaller side of this frame's part below
-  const double r_px = 0.5 * std::max(0.0, std::min(cx1 - cx0, cy1 - cy0)) * ppm_;
-  const double spacing = std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
+  // (spacing in px for a part whose smaller bounding side is `side_mm`: at most its radius,
+  // so the copies overlap, and at most sqrt(2 r) for quarter-pixel scallops; never under 0.75)
+  auto spacing_px = [&](double side_mm) {
+    const double r_px = 0.5 * std::max(0.0, side_mm) * ppm_;
+    return std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
+  };
+  const double spacing = spacing_px(std::min(cx1 - cx0, cy1 - cy0));
   const int K = continues ? std::clamp(static_cast<int>(std::ceil(travel * ppm_ / spacing)), 1, 4096) : 1;
   stats.substeps = K;
-  // slides: one copy per 0.75 px of the centre's move, so even a thin sliver leaves a band
-  const int slides = both ? std::clamp(static_cast<int>(std::ceil(std::hypot(shift_x, shift_y) * ppm_ / 0.75)), 1, 4096) : 0;
-  stats.slides = slides;
+  // slides: each part slid in copies by the same rule from its own extent (along and across
+  // the move), capped at 1.5 px: a thin part (under ~2 px) still gets a copy every 0.75 px
+  // and leaves a band, a pressed blob one every 1.5 px.  (Before: every 0.75 px for both.  A
+  // wider spacing, up to the 7 px the scallop rule allows a 50 px blob, breaks thin necks
+  // between a pressed entry and a fast drag: the 1-px anti-aliased rim of each copy carries
+  // the band there.)
+  const double shift_px = std::hypot(shift_x, shift_y) * ppm_;
+  auto slide_copies = [&](const double* ext) {
+    const double side = std::min(ext[1] - ext[0], ext[3] - ext[2]);
+    return both ? std::clamp(static_cast<int>(std::ceil(shift_px / std::min(1.5, spacing_px(side)))), 1, 4096) : 0;
+  };
+  const int slides_prev = slide_copies(pext), slides_cur = slide_copies(cext);
+  stats.slides = std::max(slides_prev, slides_cur);
 
   if (!empty(rect) && !faces.empty()) {
     // vertex data: prev, cur, centre prev, centre cur, uv
@@ -584,10 +614,10 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       // pressed blob and a thin trailing tip).  The price: where the shape changes abruptly
       // the slid blob paints a little more than the brush touched.
       gl::Uniform1i(fp.u_blends, K);
-      gl::Uniform1i(fp.u_slides, slides);
+      gl::Uniform2i(fp.u_slides, slides_prev, slides_cur);
       gl::Uniform2f(fp.u_shift, static_cast<float>(shift_x), static_cast<float>(shift_y));
       gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr,
-                                K + 2 * slides);
+                                K + slides_prev + slides_cur);
     });
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);

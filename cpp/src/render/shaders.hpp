@@ -16,9 +16,9 @@ layout(location = 3) in vec3 a_center_cur;
 layout(location = 4) in vec2 a_uv;
 // The whole sweep of one deposit is one instanced draw (a draw call costs more than its pixels
 // on a software renderer): instance i < K blends the two surfaces at t = (i + 1) / K; the next
-// Ks instances slide the last surface toward this one, the Ks after them slide this one back.
+// Ks.x instances slide the last surface toward this one, the Ks.y after them slide this one back.
 uniform int u_blends;   // K
-uniform int u_slides;   // Ks (0: no slides)
+uniform ivec2 u_slides; // Ks: copies of the last part, of this part (0: no slides)
 uniform vec2 u_shift;   // mm, the move of the footprint's centre from the last deposit
 uniform vec4 u_view;    // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
 uniform float u_soak;   // soak_expand * excess moisture
@@ -31,12 +31,12 @@ void main() {
   vec2 shift = vec2(0.0);
   if (i < u_blends) {
     t = float(i + 1) / float(u_blends);
-  } else if (i < u_blends + u_slides) {
+  } else if (i < u_blends + u_slides.x) {
     t = 0.0;
-    shift = u_shift * (float(i - u_blends + 1) / float(u_slides));
+    shift = u_shift * (float(i - u_blends + 1) / float(u_slides.x));
   } else {
     t = 1.0;
-    shift = u_shift * (float(i - u_blends - u_slides + 1) / float(u_slides) - 1.0);
+    shift = u_shift * (float(i - u_blends - u_slides.x + 1) / float(u_slides.y) - 1.0);
   }
   vec3 p = mix(a_prev, a_cur, t);
 #ifdef USE_SOAK
