@@ -61,6 +61,7 @@ What a scene uses; what it does not use is not computed and not compiled into th
       .def_readwrite("seed", &SceneFeatures::seed)
       .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
       .def_readwrite("mesh_around", &SceneFeatures::mesh_around)
+      .def_readwrite("samples", &SceneFeatures::samples)
       .def("validate", &SceneFeatures::validate);
 
   py::class_<Ink>(m, "Ink", R"doc(

@@ -35,7 +35,6 @@ class FootprintProgram {
 namespace {
 
 constexpr int kMaxNodes = 33;  // u_wet / u_press array size (n_segments <= 16 needs 17)
-constexpr int kSamples = 4;    // multisampling of the stroke layer
 constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
 
 using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
@@ -80,6 +79,8 @@ void SceneFeatures::validate() const {
     throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
   if (mesh_around < 8 || mesh_around > 512)
     throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+  if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
+    throw std::invalid_argument("scene.samples = " + std::to_string(samples) + ": expected 1, 2, 4 or 8");
 }
 
 Ink Ink::full(const Brush& brush, double total_mm2) {
@@ -141,7 +142,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   T_ = std::min(tile_px > 0 ? tile_px : 4096, limit);
   GLint max_samples = 1;
   gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  samples_ = std::clamp(static_cast<int>(max_samples), 1, kSamples);
+  samples_ = std::clamp(static_cast<int>(max_samples), 1, scene_.samples);
 
   // tiles, each a float RGBA paper texture and its framebuffer, cleared to no ink
   for (int y0 = 0; y0 < H_; y0 += T_)
@@ -249,9 +250,9 @@ Paper::~Paper() {
     gl::DeleteFramebuffers(1, &t->paper_fbo);
     gl::DeleteTextures(1, &t->paper_tex);
     if (t->layer_fbo) {
+      if (t->resolve_fbo != t->layer_fbo) gl::DeleteFramebuffers(1, &t->resolve_fbo);
       gl::DeleteFramebuffers(1, &t->layer_fbo);
-      gl::DeleteFramebuffers(1, &t->resolve_fbo);
-      gl::DeleteRenderbuffers(1, &t->layer_color_ms);
+      if (t->layer_color_ms) gl::DeleteRenderbuffers(1, &t->layer_color_ms);
       gl::DeleteRenderbuffers(1, &t->layer_depth_ms);
       gl::DeleteTextures(1, &t->layer_tex);
     }
@@ -295,18 +296,24 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
     const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
     if (empty(r)) continue;
     if (stroke_layer && t.layer_fbo == 0) {
-      // first use of this tile's stroke layer: multisampled colour (premultiplied RGBA) and
-      // depth (1 - alpha), so that footprints thinner than a pixel still leave faint,
-      // unbroken ink; and the texture it resolves into
-      gl::GenRenderbuffers(1, &t.layer_color_ms);
-      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
-      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
+      // first use of this tile's stroke layer: premultiplied RGBA and depth (1 - alpha);
+      // multisampled (samples_ > 1) so that footprints thinner than a pixel still leave faint,
+      // unbroken ink, then resolved into a single-sample texture (composited and read back);
+      // with one sample the layer is drawn straight into that texture
+      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
       gl::GenRenderbuffers(1, &t.layer_depth_ms);
       gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
-      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT32F, t.w, t.h);
       gl::GenFramebuffers(1, &t.layer_fbo);
       gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
-      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
+      if (samples_ > 1) {
+        gl::GenRenderbuffers(1, &t.layer_color_ms);
+        gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
+        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
+        gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
+      } else {
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
+      }
       gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
       glu::check_framebuffer("stroke layer tile");
       gl::Disable(GL_SCISSOR_TEST);
@@ -314,12 +321,15 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       gl::ClearColor(0, 0, 0, 0);
       gl::ClearDepth(1.0);
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
-      gl::GenFramebuffers(1, &t.resolve_fbo);
-      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
-      gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
-      glu::check_framebuffer("stroke layer resolve");
-      gl::Clear(GL_COLOR_BUFFER_BIT);
+      if (samples_ > 1) {
+        gl::GenFramebuffers(1, &t.resolve_fbo);
+        gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
+        glu::check_framebuffer("stroke layer resolve");
+        gl::Clear(GL_COLOR_BUFFER_BIT);
+      } else {
+        t.resolve_fbo = t.layer_fbo;  // nothing to resolve
+      }
       glu::check("stroke layer allocation");
     }
     f(t, r[0] - t.x0, r[1] - t.y0, r[2] - r[0], r[3] - r[1]);
@@ -328,6 +338,7 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
 
 void Paper::resolve_layer(const Rect& rect) {
   // average the samples of the layer into its texture, over `rect` only
+  if (samples_ == 1) return;  // drawn straight into it
   gl::Disable(GL_SCISSOR_TEST);
   for (auto& tp : tiles_) {
     PaperTile& t = *tp;
@@ -711,6 +722,7 @@ void Paper::flush_stroke() {
     gl::BindTexture(GL_TEXTURE_2D, t.layer_tex);
     gl::Uniform1i(glu::uniform(composite_program_, "u_layer"), 0);
     gl::DrawArrays(GL_TRIANGLES, 0, 6);
+    gl::BindTexture(GL_TEXTURE_2D, 0);  // (with one sample the layer is drawn into that texture)
     gl::Disable(GL_BLEND);
     gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
     gl::DepthMask(GL_TRUE);
