@@ -386,7 +386,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   MeshOptions opt;
   opt.rings_per_segment = scene_.mesh_rings;
   opt.around = scene_.mesh_around;
-  const RenderMesh cur = build_render_mesh(brush, opt);
+  const RenderMesh cur = build_render_mesh(brush, opt, false);
   const int V = cur.vertices();
   const double soak = (scene_.soaked_tip && ink != nullptr) ? scene_.soak_expand * ink->excess : 0.0;
 
