@@ -27,7 +27,7 @@ struct PaperTile {
 class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
-  GLint u_blends = -1, u_slides = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
+  GLint u_blends = -1, u_slides = -1, u_first = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
   GLint u_dry_param = -1, u_grain_scale = -1;
 };
@@ -177,6 +177,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   const GLuint p = fp.prog;
   fp.u_blends = glu::uniform(p, "u_blends");
   fp.u_slides = glu::uniform(p, "u_slides");
+  fp.u_first = glu::uniform(p, "u_first");
   fp.u_shift = glu::uniform(p, "u_shift");
   fp.u_view = glu::uniform(p, "u_view");
   fp.u_soak = glu::uniform(p, "u_soak");
@@ -420,22 +421,27 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const std::vector<float>& prev_c = last_centers_;
 
   // the triangles that can reach the paper at some point of the sweep (half a pixel of
-  // antialiasing above it included), their pixel bounds and the largest travel
+  // antialiasing above it included), their pixel bounds and the largest travel; and those that
+  // reach it in the last and in this deposit (the slid copies of each part draw only their own:
+  // a pressed blob's slides need not rasterise the faces of the tip that only touches later)
   const double zcut = 1.0 / ppm_;
-  std::vector<std::uint32_t> faces;
+  std::vector<std::uint32_t> faces, faces_prev, faces_cur;
   faces.reserve(cur.faces.size());
   std::vector<char> used(V, 0);
   for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
-    double lo = 1e300;
+    double lo_cur = 1e300, lo_prev = 1e300;
     for (int e = 0; e < 3; ++e) {
       const int v = static_cast<int>(cur.faces[f + e]);
-      lo = std::min({lo, placed(cur.position, cur.center, v, 2), placed(prev, prev_c, v, 2)});
+      lo_cur = std::min(lo_cur, placed(cur.position, cur.center, v, 2));
+      lo_prev = std::min(lo_prev, placed(prev, prev_c, v, 2));
     }
-    if (lo < zcut) {
+    if (std::min(lo_cur, lo_prev) < zcut) {
       for (int e = 0; e < 3; ++e) {
         faces.push_back(cur.faces[f + e]);
         used[cur.faces[f + e]] = 1;
       }
+      if (lo_prev < zcut) faces_prev.insert(faces_prev.end(), &cur.faces[f], &cur.faces[f] + 3);
+      if (lo_cur < zcut) faces_cur.insert(faces_cur.end(), &cur.faces[f], &cur.faces[f] + 3);
     }
   }
   double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;  // mm, whole sweep
@@ -559,6 +565,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     gl::BindVertexArray(fp.vao);
     gl::BindBuffer(GL_ARRAY_BUFFER, fp.vbo);
     gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data(), GL_STREAM_DRAW);
+    // index buffer: the sweep's faces, then the last part's, then this part's
+    const std::size_t n_all = faces.size(), n_prev = slides_prev > 0 ? faces_prev.size() : 0,
+                      n_cur = slides_cur > 0 ? faces_cur.size() : 0;
+    faces.insert(faces.end(), faces_prev.begin(), faces_prev.begin() + n_prev);
+    faces.insert(faces.end(), faces_cur.begin(), faces_cur.begin() + n_cur);
     gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, fp.ibo);
     gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(faces.size() * sizeof(std::uint32_t)),
                    faces.data(), GL_STREAM_DRAW);
@@ -627,8 +638,16 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       gl::Uniform1i(fp.u_blends, K);
       gl::Uniform2i(fp.u_slides, slides_prev, slides_cur);
       gl::Uniform2f(fp.u_shift, static_cast<float>(shift_x), static_cast<float>(shift_y));
-      gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr,
-                                K + slides_prev + slides_cur);
+      // three instanced draws (blends, the last part slid, this part slid), each over its faces;
+      // u_first numbers their instances on from the draws before
+      const int first[3] = {0, K, K + slides_prev}, count[3] = {K, slides_prev, slides_cur};
+      const std::size_t offset[3] = {0, n_all, n_all + n_prev}, size[3] = {n_all, n_prev, n_cur};
+      for (int d = 0; d < 3; ++d) {
+        if (count[d] == 0 || size[d] == 0) continue;
+        gl::Uniform1i(fp.u_first, first[d]);
+        gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(size[d]), GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(offset[d] * sizeof(std::uint32_t)), count[d]);
+      }
     });
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);

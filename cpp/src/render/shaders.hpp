@@ -19,6 +19,7 @@ layout(location = 4) in vec2 a_uv;
 // Ks.x instances slide the last surface toward this one, the Ks.y after them slide this one back.
 uniform int u_blends;   // K
 uniform ivec2 u_slides; // Ks: copies of the last part, of this part (0: no slides)
+uniform int u_first;    // instance number of this draw's first instance (one draw per kind)
 uniform vec2 u_shift;   // mm, the move of the footprint's centre from the last deposit
 uniform vec4 u_view;    // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
 uniform float u_soak;   // soak_expand * excess moisture
@@ -26,7 +27,7 @@ out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
 void main() {
-  int i = gl_InstanceID;
+  int i = gl_InstanceID + u_first;
   float t;
   vec2 shift = vec2(0.0);
   if (i < u_blends) {
