@@ -187,6 +187,7 @@ class Paper {
   SceneFeatures scene_;
   double width_mm_, height_mm_, ppm_;
   int W_ = 0, H_ = 0, T_ = 0, samples_ = 1;
+  bool max_blend_ = false;  // the layer keeps the densest deposit by max blending (no colour ramp)
   std::vector<std::unique_ptr<PaperTile>> tiles_;
   std::unique_ptr<FootprintProgram> program_;
   unsigned composite_program_ = 0, quad_vao_ = 0, quad_vbo_ = 0;

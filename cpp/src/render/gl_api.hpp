@@ -20,6 +20,7 @@ namespace brushwork::gl {
   X(void, ClearDepth, (GLdouble))                                                              \
   X(void, Clear, (GLbitfield))                                                                 \
   X(void, BlendFunc, (GLenum, GLenum))                                                         \
+  X(void, BlendEquation, (GLenum))                                                             \
   X(void, BlendFuncSeparate, (GLenum, GLenum, GLenum, GLenum))                                 \
   X(void, DepthFunc, (GLenum))                                                                 \
   X(void, DepthMask, (GLboolean))                                                              \

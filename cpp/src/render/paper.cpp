@@ -171,6 +171,11 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   if (scene_.soaked_tip) defines.push_back("USE_SOAK");
   if (scene_.color_ramp) defines.push_back("USE_RAMP");
   if (scene_.depletion) defines.push_back("USE_DEPLETION");
+  // one ink colour (no ramp): premultiplied (c a, a) grows with a in every component, so the
+  // per-component maximum (blend equation MAX) keeps the densest deposit exactly as the depth
+  // test on 1 - a does, without a depth buffer or a shader-written depth
+  max_blend_ = !scene_.color_ramp;
+  if (max_blend_) defines.push_back("USE_MAX_BLEND");
   program_ = std::make_unique<FootprintProgram>();
   FootprintProgram& fp = *program_;
   fp.prog = ctx_->program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
@@ -297,14 +302,17 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
     const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
     if (empty(r)) continue;
     if (stroke_layer && t.layer_fbo == 0) {
-      // first use of this tile's stroke layer: premultiplied RGBA and depth (1 - alpha);
+      // first use of this tile's stroke layer: premultiplied RGBA and depth (1 - alpha; none
+      // when the layer keeps the densest deposit by max blending);
       // multisampled (samples_ > 1) so that footprints thinner than a pixel still leave faint,
       // unbroken ink, then resolved into a single-sample texture (composited and read back);
       // with one sample the layer is drawn straight into that texture
       t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
-      gl::GenRenderbuffers(1, &t.layer_depth_ms);
-      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
-      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      if (!max_blend_) {
+        gl::GenRenderbuffers(1, &t.layer_depth_ms);
+        gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
+        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      }
       gl::GenFramebuffers(1, &t.layer_fbo);
       gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
       if (samples_ > 1) {
@@ -315,7 +323,8 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       } else {
         gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
       }
-      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
+      if (!max_blend_)
+        gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
       glu::check_framebuffer("stroke layer tile");
       gl::Disable(GL_SCISSOR_TEST);
       gl::DepthMask(GL_TRUE);
@@ -611,11 +620,18 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     if (scene_.depletion) read_layer_alpha(rect, before);
 
     // draw the sweep into the stroke layer: downward-facing triangles only (seen from below,
-    // a face whose outward normal points down is clockwise on the paper), densest wins
-    gl::Enable(GL_DEPTH_TEST);
-    gl::DepthFunc(GL_LESS);
-    gl::DepthMask(GL_TRUE);
-    gl::Disable(GL_BLEND);
+    // a face whose outward normal points down is clockwise on the paper), densest wins (max
+    // blend, or depth test on 1 - alpha with a colour ramp)
+    if (max_blend_) {
+      gl::Disable(GL_DEPTH_TEST);
+      gl::Enable(GL_BLEND);
+      gl::BlendEquation(GL_MAX);
+    } else {
+      gl::Enable(GL_DEPTH_TEST);
+      gl::DepthFunc(GL_LESS);
+      gl::DepthMask(GL_TRUE);
+      gl::Disable(GL_BLEND);
+    }
     gl::Enable(GL_CULL_FACE);
     gl::FrontFace(GL_CCW);
     gl::CullFace(GL_FRONT);
@@ -652,6 +668,8 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);
     gl::Disable(GL_DEPTH_TEST);
+    gl::BlendEquation(GL_FUNC_ADD);
+    gl::Disable(GL_BLEND);
     gl::BindVertexArray(0);
     glu::check("footprint pass");
 

@@ -123,8 +123,11 @@ void main() {
 #endif
   if (a <= 1.0 / 4096.0) discard;
   o_color = vec4(rgb * a, a);
-  // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha)
+#ifndef USE_MAX_BLEND
+  // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha; with
+  // one ink colour the blend equation MAX does it)
   gl_FragDepth = 1.0 - a;
+#endif
 }
 )";
 
