@@ -182,6 +182,7 @@ class Paper {
                  const std::function<void(PaperTile&, int, int, int, int)>& f);
   void resolve_layer(const std::array<int, 4>& rect);
   void read_layer_alpha(const std::array<int, 4>& rect, std::vector<float>& out);
+  void forget_layer_alpha(const std::array<int, 4>& rect);  // zero the kept alpha over rect
 
   std::shared_ptr<RenderContext> ctx_;
   SceneFeatures scene_;
@@ -202,6 +203,9 @@ class Paper {
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom
   std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
   std::vector<float> undo_pixels_;
+  // depletion: the stroke layer's alpha as last read back, (H, W) row 0 at the bottom (empty
+  // until the first deposit of a depletion scene)
+  std::vector<float> layer_alpha_;
   bool undo_available_ = false;
 };
 

@@ -616,8 +616,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     }
     gl::ActiveTexture(GL_TEXTURE0);
 
-    std::vector<float> before, after;
-    if (scene_.depletion) read_layer_alpha(rect, before);
+    std::vector<float> after;
 
     // draw the sweep into the stroke layer: downward-facing triangles only (seen from below,
     // a face whose outward normal points down is clockwise on the paper), densest wins (max
@@ -676,9 +675,17 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     // depletion: what the layer gained is what the brush lost (seed: "automatically subtract
     // the ink values from the brush"), taken from the pressed nodes that still hold ink
     if (scene_.depletion) {
+      // (the layer's alpha before this deposit is the copy kept from the last readback: one
+      // readback per frame instead of two; the sum is the same, term for term)
       read_layer_alpha(rect, after);
+      if (layer_alpha_.empty()) layer_alpha_.assign(static_cast<std::size_t>(W_) * H_, 0.0f);
       double gained = 0.0;
-      for (std::size_t i = 0; i < after.size(); ++i) gained += static_cast<double>(after[i]) - before[i];
+      const int rw = rect[2] - rect[0];
+      for (std::size_t i = 0; i < after.size(); ++i) {
+        float& kept = layer_alpha_[static_cast<std::size_t>(rect[1] + i / rw) * W_ + rect[0] + i % rw];
+        gained += static_cast<double>(after[i]) - kept;
+        kept = after[i];
+      }
       gained /= ppm_ * ppm_;  // px -> mm^2
       stats.deposited = gained;
       double remaining = std::min(gained, ink->load.sum());
@@ -770,8 +777,16 @@ void Paper::flush_stroke() {
   gl::Disable(GL_SCISSOR_TEST);
   gl::BindVertexArray(0);
   glu::check("stroke composite");
+  forget_layer_alpha(rect);
   stroke_pending_ = false;
   stroke_rect_ = {0, 0, 0, 0};
+}
+
+void Paper::forget_layer_alpha(const Rect& rect) {
+  // the layer was cleared over `rect`: so is the kept copy of its alpha
+  if (layer_alpha_.empty() || empty(rect)) return;
+  for (int y = rect[1]; y < rect[3]; ++y)
+    std::fill_n(&layer_alpha_[static_cast<std::size_t>(y) * W_ + rect[0]], rect[2] - rect[0], 0.0f);
 }
 
 bool Paper::undo() {
@@ -788,6 +803,7 @@ bool Paper::undo() {
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     });
     gl::Disable(GL_SCISSOR_TEST);
+    forget_layer_alpha(stroke_rect_);
     stroke_pending_ = false;
     stroke_open_ = false;
     last_brush_ = nullptr;
@@ -830,6 +846,7 @@ void Paper::clear() {
   last_brush_ = nullptr;
   stroke_rect_ = {0, 0, 0, 0};
   undo_pixels_.clear();
+  layer_alpha_.clear();
 }
 
 void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>& f) {
