@@ -26,6 +26,21 @@ uniform float u_soak;   // soak_expand * excess moisture
 out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+// wetness and pressure per spine node, interpolated here at the vertex's s: the rings include
+// every node (s = i / n), so no triangle straddles one and the linear interpolation across the
+// triangle is the piecewise-linear profile itself (and the fragment shader does no indexing)
+uniform int u_nodes;          // spine nodes n + 1
+uniform float u_wet[33];      // wetness per node, root first, [0, 1]
+uniform float u_press[33];    // pressure per node, [0, 1]
+out float v_wet;
+out float v_press;
+float along(float s, bool wet) {
+  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
+  int i = min(int(x), u_nodes - 2);
+  return wet ? mix(u_wet[i], u_wet[i + 1], x - float(i)) : mix(u_press[i], u_press[i + 1], x - float(i));
+}
+#endif
 void main() {
   int i = gl_InstanceID + u_first;
   float t;
@@ -47,6 +62,10 @@ void main() {
 #endif
   p.xy += shift;
   v_uv = a_uv;
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+  v_wet = along(a_uv.x, true);
+  v_press = along(a_uv.x, false);
+#endif
   v_z = p.z;
   v_mm = p.xy;
   gl_Position = vec4((p.xy - u_view.xy) * u_view.zw - 1.0, 0.0, 1.0);
@@ -57,9 +76,10 @@ inline constexpr const char* kFootprintFragment = R"(#version 330 core
 in vec2 v_uv;
 in float v_z;
 in vec2 v_mm;
-uniform int u_nodes;          // spine nodes n + 1
-uniform float u_wet[33];      // wetness per node, root first, [0, 1]
-uniform float u_press[33];    // pressure per node, [0, 1]
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+in float v_wet;               // wetness of the spine at this fragment's s, [0, 1]
+in float v_press;             // pressure, [0, 1]
+#endif
 uniform vec4 u_color;         // straight RGBA of the ink (no ramp)
 uniform sampler2D u_split;    // (around, along) alpha
 uniform sampler2D u_dry;      // (around, along) grey
@@ -69,18 +89,6 @@ uniform float u_soak_shift;   // soak_shift * excess moisture
 uniform vec4 u_dry_param;     // dry onset, dry pressure, grain onset, grain pressure
 uniform float u_grain_scale;  // 1 / grain period, 1/mm
 out vec4 o_color;
-
-// a per-node quantity interpolated at s in [0, 1] along the spine (node i at s = i / n)
-float along_wet(float s) {
-  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
-  int i = min(int(x), u_nodes - 2);
-  return mix(u_wet[i], u_wet[i + 1], x - float(i));
-}
-float along_press(float s) {
-  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
-  int i = min(int(x), u_nodes - 2);
-  return mix(u_press[i], u_press[i + 1], x - float(i));
-}
 
 void main() {
   // coverage of the pixel by the part below the paper: the footprint's edge is where the
@@ -101,10 +109,10 @@ void main() {
   a *= texture(u_split, vec2(v_uv.y, s * (1.0 - u_soak_shift))).r;
 #endif
 #if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
-  float wet = along_wet(s);
+  float wet = v_wet;
 #endif
 #if defined(USE_DRY) || defined(USE_GRAIN)
-  float press = along_press(s);
+  float press = v_press;
 #endif
 #ifdef USE_DRY
   // seed "Dry brush": only the peaks of the bristle height field touch a dry brush; the
