@@ -61,6 +61,7 @@ What a scene uses; what it does not use is not computed and not compiled into th
       .def_readwrite("seed", &SceneFeatures::seed)
       .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
       .def_readwrite("mesh_around", &SceneFeatures::mesh_around)
+      .def_readwrite("samples", &SceneFeatures::samples)
       .def("validate", &SceneFeatures::validate);
 
   py::class_<Ink>(m, "Ink", R"doc(
@@ -88,7 +89,7 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
       .def_readonly("contact", &DepositStats::contact)
       .def_readonly("new_stroke", &DepositStats::new_stroke)
       .def_readonly("substeps", &DepositStats::substeps)
-      .def_readonly("slides", &DepositStats::slides, "copies of each footprint slid along its move")
+      .def_readonly("slides", &DepositStats::slides, "copies of a footprint slid along its move (the larger of the last and this part's count)")
       .def_readonly("deposited", &DepositStats::deposited, "mm^2 (depletion scenes)")
       .def_readonly("rect", &DepositStats::rect, "px (x0, y0, x1, y1), y up, exclusive")
       .def("__repr__", [](const DepositStats& s) {

@@ -25,6 +25,7 @@ PARAMETERS = {
     "seed": ("-", "seed of the procedural split, dry and grain maps"),
     "mesh_rings": ("-", "rings per spine segment of the swept surface"),
     "mesh_around": ("-", "vertices around one ring"),
+    "samples": ("-", "multisampling of the stroke layer: 1, 2, 4 (default) or 8; 1 is ~2.5x faster on a software renderer"),
 }
 
 

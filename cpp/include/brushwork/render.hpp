@@ -92,6 +92,10 @@ struct SceneFeatures {
   std::uint32_t seed = 1;       // procedural maps (split, dry, grain)
   int mesh_rings = 6;           // rings per spine segment of the swept surface
   int mesh_around = 48;         // vertices around one ring
+  int samples = 4;              // multisampling of the stroke layer: 1 (none), 2, 4 or 8 (the
+                                // device's maximum at most).  On a software rasteriser 4x is
+                                // ~2.5x the time of 1x; 1x loses the faint ink of footprints
+                                // thinner than a pixel (see Paper::samples)
 
   void validate() const;  // std::invalid_argument naming the field
 };
@@ -117,7 +121,8 @@ struct DepositStats {
   bool contact = false;        // some of the surface was below the paper
   bool new_stroke = false;     // this deposit started a stroke
   int substeps = 0;            // footprints swept between the last deposit and this one
-  int slides = 0;              // copies of each footprint slid along its move (0: blend only)
+  int slides = 0;              // copies of a footprint slid along its move, the larger of the
+                               // last and this part's count (0: blend only)
   double deposited = 0.0;      // mm^2 of full-density ink given to the paper (depletion only)
   std::array<int, 4> rect{{0, 0, 0, 0}};  // px x0, y0, x1, y1 (exclusive) touched, y up
 };
@@ -177,11 +182,13 @@ class Paper {
                  const std::function<void(PaperTile&, int, int, int, int)>& f);
   void resolve_layer(const std::array<int, 4>& rect);
   void read_layer_alpha(const std::array<int, 4>& rect, std::vector<float>& out);
+  void forget_layer_alpha(const std::array<int, 4>& rect);  // zero the kept alpha over rect
 
   std::shared_ptr<RenderContext> ctx_;
   SceneFeatures scene_;
   double width_mm_, height_mm_, ppm_;
   int W_ = 0, H_ = 0, T_ = 0, samples_ = 1;
+  bool max_blend_ = false;  // the layer keeps the densest deposit by max blending (no colour ramp)
   std::vector<std::unique_ptr<PaperTile>> tiles_;
   std::unique_ptr<FootprintProgram> program_;
   unsigned composite_program_ = 0, quad_vao_ = 0, quad_vbo_ = 0;
@@ -196,6 +203,9 @@ class Paper {
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom
   std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
   std::vector<float> undo_pixels_;
+  // depletion: the stroke layer's alpha as last read back, (H, W) row 0 at the bottom (empty
+  // until the first deposit of a depletion scene)
+  std::vector<float> layer_alpha_;
   bool undo_available_ = false;
 };
 

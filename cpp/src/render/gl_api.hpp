@@ -20,6 +20,7 @@ namespace brushwork::gl {
   X(void, ClearDepth, (GLdouble))                                                              \
   X(void, Clear, (GLbitfield))                                                                 \
   X(void, BlendFunc, (GLenum, GLenum))                                                         \
+  X(void, BlendEquation, (GLenum))                                                             \
   X(void, BlendFuncSeparate, (GLenum, GLenum, GLenum, GLenum))                                 \
   X(void, DepthFunc, (GLenum))                                                                 \
   X(void, DepthMask, (GLboolean))                                                              \
@@ -68,6 +69,7 @@ namespace brushwork::gl {
   X(void, Uniform1i, (GLint, GLint))                                                           \
   X(void, Uniform1f, (GLint, GLfloat))                                                         \
   X(void, Uniform2f, (GLint, GLfloat, GLfloat))                                                \
+  X(void, Uniform2i, (GLint, GLint, GLint))                                                  \
   X(void, Uniform3f, (GLint, GLfloat, GLfloat, GLfloat))                                       \
   X(void, Uniform4f, (GLint, GLfloat, GLfloat, GLfloat, GLfloat))                              \
   X(void, Uniform1fv, (GLint, GLsizei, const GLfloat*))                                        \

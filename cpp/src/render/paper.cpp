@@ -27,7 +27,7 @@ struct PaperTile {
 class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
-  GLint u_blends = -1, u_slides = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
+  GLint u_blends = -1, u_slides = -1, u_first = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
   GLint u_dry_param = -1, u_grain_scale = -1;
 };
@@ -35,7 +35,6 @@ class FootprintProgram {
 namespace {
 
 constexpr int kMaxNodes = 33;  // u_wet / u_press array size (n_segments <= 16 needs 17)
-constexpr int kSamples = 4;    // multisampling of the stroke layer
 constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
 
 using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
@@ -80,6 +79,8 @@ void SceneFeatures::validate() const {
     throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
   if (mesh_around < 8 || mesh_around > 512)
     throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+  if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
+    throw std::invalid_argument("scene.samples = " + std::to_string(samples) + ": expected 1, 2, 4 or 8");
 }
 
 Ink Ink::full(const Brush& brush, double total_mm2) {
@@ -141,7 +142,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   T_ = std::min(tile_px > 0 ? tile_px : 4096, limit);
   GLint max_samples = 1;
   gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
-  samples_ = std::clamp(static_cast<int>(max_samples), 1, kSamples);
+  samples_ = std::clamp(static_cast<int>(max_samples), 1, scene_.samples);
 
   // tiles, each a float RGBA paper texture and its framebuffer, cleared to no ink
   for (int y0 = 0; y0 < H_; y0 += T_)
@@ -170,12 +171,18 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   if (scene_.soaked_tip) defines.push_back("USE_SOAK");
   if (scene_.color_ramp) defines.push_back("USE_RAMP");
   if (scene_.depletion) defines.push_back("USE_DEPLETION");
+  // one ink colour (no ramp): premultiplied (c a, a) grows with a in every component, so the
+  // per-component maximum (blend equation MAX) keeps the densest deposit exactly as the depth
+  // test on 1 - a does, without a depth buffer or a shader-written depth
+  max_blend_ = !scene_.color_ramp;
+  if (max_blend_) defines.push_back("USE_MAX_BLEND");
   program_ = std::make_unique<FootprintProgram>();
   FootprintProgram& fp = *program_;
   fp.prog = ctx_->program(shaders::kFootprintVertex, shaders::kFootprintFragment, defines);
   const GLuint p = fp.prog;
   fp.u_blends = glu::uniform(p, "u_blends");
   fp.u_slides = glu::uniform(p, "u_slides");
+  fp.u_first = glu::uniform(p, "u_first");
   fp.u_shift = glu::uniform(p, "u_shift");
   fp.u_view = glu::uniform(p, "u_view");
   fp.u_soak = glu::uniform(p, "u_soak");
@@ -249,9 +256,9 @@ Paper::~Paper() {
     gl::DeleteFramebuffers(1, &t->paper_fbo);
     gl::DeleteTextures(1, &t->paper_tex);
     if (t->layer_fbo) {
+      if (t->resolve_fbo != t->layer_fbo) gl::DeleteFramebuffers(1, &t->resolve_fbo);
       gl::DeleteFramebuffers(1, &t->layer_fbo);
-      gl::DeleteFramebuffers(1, &t->resolve_fbo);
-      gl::DeleteRenderbuffers(1, &t->layer_color_ms);
+      if (t->layer_color_ms) gl::DeleteRenderbuffers(1, &t->layer_color_ms);
       gl::DeleteRenderbuffers(1, &t->layer_depth_ms);
       gl::DeleteTextures(1, &t->layer_tex);
     }
@@ -295,31 +302,44 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
     const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
     if (empty(r)) continue;
     if (stroke_layer && t.layer_fbo == 0) {
-      // first use of this tile's stroke layer: multisampled colour (premultiplied RGBA) and
-      // depth (1 - alpha), so that footprints thinner than a pixel still leave faint,
-      // unbroken ink; and the texture it resolves into
-      gl::GenRenderbuffers(1, &t.layer_color_ms);
-      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
-      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
-      gl::GenRenderbuffers(1, &t.layer_depth_ms);
-      gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
-      gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      // first use of this tile's stroke layer: premultiplied RGBA and depth (1 - alpha; none
+      // when the layer keeps the densest deposit by max blending);
+      // multisampled (samples_ > 1) so that footprints thinner than a pixel still leave faint,
+      // unbroken ink, then resolved into a single-sample texture (composited and read back);
+      // with one sample the layer is drawn straight into that texture
+      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
+      if (!max_blend_) {
+        gl::GenRenderbuffers(1, &t.layer_depth_ms);
+        gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
+        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT32F, t.w, t.h);
+      }
       gl::GenFramebuffers(1, &t.layer_fbo);
       gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
-      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
-      gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
+      if (samples_ > 1) {
+        gl::GenRenderbuffers(1, &t.layer_color_ms);
+        gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
+        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
+        gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
+      } else {
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
+      }
+      if (!max_blend_)
+        gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.layer_depth_ms);
       glu::check_framebuffer("stroke layer tile");
       gl::Disable(GL_SCISSOR_TEST);
       gl::DepthMask(GL_TRUE);
       gl::ClearColor(0, 0, 0, 0);
       gl::ClearDepth(1.0);
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
-      gl::GenFramebuffers(1, &t.resolve_fbo);
-      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
-      gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
-      glu::check_framebuffer("stroke layer resolve");
-      gl::Clear(GL_COLOR_BUFFER_BIT);
+      if (samples_ > 1) {
+        gl::GenFramebuffers(1, &t.resolve_fbo);
+        gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+        gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
+        glu::check_framebuffer("stroke layer resolve");
+        gl::Clear(GL_COLOR_BUFFER_BIT);
+      } else {
+        t.resolve_fbo = t.layer_fbo;  // nothing to resolve
+      }
       glu::check("stroke layer allocation");
     }
     f(t, r[0] - t.x0, r[1] - t.y0, r[2] - r[0], r[3] - r[1]);
@@ -328,6 +348,7 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
 
 void Paper::resolve_layer(const Rect& rect) {
   // average the samples of the layer into its texture, over `rect` only
+  if (samples_ == 1) return;  // drawn straight into it
   gl::Disable(GL_SCISSOR_TEST);
   for (auto& tp : tiles_) {
     PaperTile& t = *tp;
@@ -375,7 +396,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   MeshOptions opt;
   opt.rings_per_segment = scene_.mesh_rings;
   opt.around = scene_.mesh_around;
-  const RenderMesh cur = build_render_mesh(brush, opt);
+  const RenderMesh cur = build_render_mesh(brush, opt, false);
   const int V = cur.vertices();
   const double soak = (scene_.soaked_tip && ink != nullptr) ? scene_.soak_expand * ink->excess : 0.0;
 
@@ -409,22 +430,27 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const std::vector<float>& prev_c = last_centers_;
 
   // the triangles that can reach the paper at some point of the sweep (half a pixel of
-  // antialiasing above it included), their pixel bounds and the largest travel
+  // antialiasing above it included), their pixel bounds and the largest travel; and those that
+  // reach it in the last and in this deposit (the slid copies of each part draw only their own:
+  // a pressed blob's slides need not rasterise the faces of the tip that only touches later)
   const double zcut = 1.0 / ppm_;
-  std::vector<std::uint32_t> faces;
+  std::vector<std::uint32_t> faces, faces_prev, faces_cur;
   faces.reserve(cur.faces.size());
   std::vector<char> used(V, 0);
   for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
-    double lo = 1e300;
+    double lo_cur = 1e300, lo_prev = 1e300;
     for (int e = 0; e < 3; ++e) {
       const int v = static_cast<int>(cur.faces[f + e]);
-      lo = std::min({lo, placed(cur.position, cur.center, v, 2), placed(prev, prev_c, v, 2)});
+      lo_cur = std::min(lo_cur, placed(cur.position, cur.center, v, 2));
+      lo_prev = std::min(lo_prev, placed(prev, prev_c, v, 2));
     }
-    if (lo < zcut) {
+    if (std::min(lo_cur, lo_prev) < zcut) {
       for (int e = 0; e < 3; ++e) {
         faces.push_back(cur.faces[f + e]);
         used[cur.faces[f + e]] = 1;
       }
+      if (lo_prev < zcut) faces_prev.insert(faces_prev.end(), &cur.faces[f], &cur.faces[f] + 3);
+      if (lo_cur < zcut) faces_cur.insert(faces_cur.end(), &cur.faces[f], &cur.faces[f] + 3);
     }
   }
   double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;  // mm, whole sweep
@@ -463,6 +489,21 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const bool both = both_below && (std::min(wp, wc) < 0.5 * std::max(wp, wc) ||
                                    move_mm > 0.5 * std::min(pside, cside));
   const double shift_x = both ? ccx / wc - pcx / wp : 0.0, shift_y = both ? ccy / wc - pcy / wp : 0.0;
+  // each part's extent along the shift and across it (mm): the slid copies of a part leave no
+  // gap while they are spaced closer than its extent along the move
+  double pext[4] = {1e300, -1e300, 1e300, -1e300}, cext[4] = {1e300, -1e300, 1e300, -1e300};
+  if (both) {
+    const double len = std::hypot(shift_x, shift_y), ux = shift_x / len, uy = shift_y / len;
+    auto extend = [&](double* e, double x, double y) {
+      const double a = ux * x + uy * y, b = -uy * x + ux * y;
+      e[0] = std::min(e[0], a), e[1] = std::max(e[1], a), e[2] = std::min(e[2], b), e[3] = std::max(e[3], b);
+    };
+    for (int v = 0; v < V; ++v) {
+      if (placed(cur.position, cur.center, v, 2) < 0.0)
+        extend(cext, placed(cur.position, cur.center, v, 0), placed(cur.position, cur.center, v, 1));
+      if (placed(prev, prev_c, v, 2) < 0.0) extend(pext, placed(prev, prev_c, v, 0), placed(prev, prev_c, v, 1));
+    }
+  }
   for (int v = 0; v < V; ++v) {
     if (!used[v]) continue;
     const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
@@ -491,13 +532,28 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   // sub-steps of the sweep: close enough that consecutive footprints overlap and the
   // scallops between them stay under a quarter pixel (a disc of radius r spaced d apart
   // leaves scallops d^2 / 8r deep); r from the smaller side of this frame's part below
-  const double r_px = 0.5 * std::max(0.0, std::min(cx1 - cx0, cy1 - cy0)) * ppm_;
-  const double spacing = std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
+  // (spacing in px for a part whose smaller bounding side is `side_mm`: at most its radius,
+  // so the copies overlap, and at most sqrt(2 r) for quarter-pixel scallops; never under 0.75)
+  auto spacing_px = [&](double side_mm) {
+    const double r_px = 0.5 * std::max(0.0, side_mm) * ppm_;
+    return std::max(0.75, std::min(r_px, std::sqrt(2.0 * r_px)));
+  };
+  const double spacing = spacing_px(std::min(cx1 - cx0, cy1 - cy0));
   const int K = continues ? std::clamp(static_cast<int>(std::ceil(travel * ppm_ / spacing)), 1, 4096) : 1;
   stats.substeps = K;
-  // slides: one copy per 0.75 px of the centre's move, so even a thin sliver leaves a band
-  const int slides = both ? std::clamp(static_cast<int>(std::ceil(std::hypot(shift_x, shift_y) * ppm_ / 0.75)), 1, 4096) : 0;
-  stats.slides = slides;
+  // slides: each part slid in copies by the same rule from its own extent (along and across
+  // the move), capped at 1.5 px: a thin part (under ~2 px) still gets a copy every 0.75 px
+  // and leaves a band, a pressed blob one every 1.5 px.  (Before: every 0.75 px for both.  A
+  // wider spacing, up to the 7 px the scallop rule allows a 50 px blob, breaks thin necks
+  // between a pressed entry and a fast drag: the 1-px anti-aliased rim of each copy carries
+  // the band there.)
+  const double shift_px = std::hypot(shift_x, shift_y) * ppm_;
+  auto slide_copies = [&](const double* ext) {
+    const double side = std::min(ext[1] - ext[0], ext[3] - ext[2]);
+    return both ? std::clamp(static_cast<int>(std::ceil(shift_px / std::min(1.5, spacing_px(side)))), 1, 4096) : 0;
+  };
+  const int slides_prev = slide_copies(pext), slides_cur = slide_copies(cext);
+  stats.slides = std::max(slides_prev, slides_cur);
 
   if (!empty(rect) && !faces.empty()) {
     // vertex data: prev, cur, centre prev, centre cur, uv
@@ -518,6 +574,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     gl::BindVertexArray(fp.vao);
     gl::BindBuffer(GL_ARRAY_BUFFER, fp.vbo);
     gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data(), GL_STREAM_DRAW);
+    // index buffer: the sweep's faces, then the last part's, then this part's
+    const std::size_t n_all = faces.size(), n_prev = slides_prev > 0 ? faces_prev.size() : 0,
+                      n_cur = slides_cur > 0 ? faces_cur.size() : 0;
+    faces.insert(faces.end(), faces_prev.begin(), faces_prev.begin() + n_prev);
+    faces.insert(faces.end(), faces_cur.begin(), faces_cur.begin() + n_cur);
     gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, fp.ibo);
     gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(faces.size() * sizeof(std::uint32_t)),
                    faces.data(), GL_STREAM_DRAW);
@@ -555,15 +616,21 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     }
     gl::ActiveTexture(GL_TEXTURE0);
 
-    std::vector<float> before, after;
-    if (scene_.depletion) read_layer_alpha(rect, before);
+    std::vector<float> after;
 
     // draw the sweep into the stroke layer: downward-facing triangles only (seen from below,
-    // a face whose outward normal points down is clockwise on the paper), densest wins
-    gl::Enable(GL_DEPTH_TEST);
-    gl::DepthFunc(GL_LESS);
-    gl::DepthMask(GL_TRUE);
-    gl::Disable(GL_BLEND);
+    // a face whose outward normal points down is clockwise on the paper), densest wins (max
+    // blend, or depth test on 1 - alpha with a colour ramp)
+    if (max_blend_) {
+      gl::Disable(GL_DEPTH_TEST);
+      gl::Enable(GL_BLEND);
+      gl::BlendEquation(GL_MAX);
+    } else {
+      gl::Enable(GL_DEPTH_TEST);
+      gl::DepthFunc(GL_LESS);
+      gl::DepthMask(GL_TRUE);
+      gl::Disable(GL_BLEND);
+    }
     gl::Enable(GL_CULL_FACE);
     gl::FrontFace(GL_CCW);
     gl::CullFace(GL_FRONT);
@@ -584,23 +651,41 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       // pressed blob and a thin trailing tip).  The price: where the shape changes abruptly
       // the slid blob paints a little more than the brush touched.
       gl::Uniform1i(fp.u_blends, K);
-      gl::Uniform1i(fp.u_slides, slides);
+      gl::Uniform2i(fp.u_slides, slides_prev, slides_cur);
       gl::Uniform2f(fp.u_shift, static_cast<float>(shift_x), static_cast<float>(shift_y));
-      gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(faces.size()), GL_UNSIGNED_INT, nullptr,
-                                K + 2 * slides);
+      // three instanced draws (blends, the last part slid, this part slid), each over its faces;
+      // u_first numbers their instances on from the draws before
+      const int first[3] = {0, K, K + slides_prev}, count[3] = {K, slides_prev, slides_cur};
+      const std::size_t offset[3] = {0, n_all, n_all + n_prev}, size[3] = {n_all, n_prev, n_cur};
+      for (int d = 0; d < 3; ++d) {
+        if (count[d] == 0 || size[d] == 0) continue;
+        gl::Uniform1i(fp.u_first, first[d]);
+        gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(size[d]), GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(offset[d] * sizeof(std::uint32_t)), count[d]);
+      }
     });
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);
     gl::Disable(GL_DEPTH_TEST);
+    gl::BlendEquation(GL_FUNC_ADD);
+    gl::Disable(GL_BLEND);
     gl::BindVertexArray(0);
     glu::check("footprint pass");
 
     // depletion: what the layer gained is what the brush lost (seed: "automatically subtract
     // the ink values from the brush"), taken from the pressed nodes that still hold ink
     if (scene_.depletion) {
+      // (the layer's alpha before this deposit is the copy kept from the last readback: one
+      // readback per frame instead of two; the sum is the same, term for term)
       read_layer_alpha(rect, after);
+      if (layer_alpha_.empty()) layer_alpha_.assign(static_cast<std::size_t>(W_) * H_, 0.0f);
       double gained = 0.0;
-      for (std::size_t i = 0; i < after.size(); ++i) gained += static_cast<double>(after[i]) - before[i];
+      const int rw = rect[2] - rect[0];
+      for (std::size_t i = 0; i < after.size(); ++i) {
+        float& kept = layer_alpha_[static_cast<std::size_t>(rect[1] + i / rw) * W_ + rect[0] + i % rw];
+        gained += static_cast<double>(after[i]) - kept;
+        kept = after[i];
+      }
       gained /= ppm_ * ppm_;  // px -> mm^2
       stats.deposited = gained;
       double remaining = std::min(gained, ink->load.sum());
@@ -681,6 +766,7 @@ void Paper::flush_stroke() {
     gl::BindTexture(GL_TEXTURE_2D, t.layer_tex);
     gl::Uniform1i(glu::uniform(composite_program_, "u_layer"), 0);
     gl::DrawArrays(GL_TRIANGLES, 0, 6);
+    gl::BindTexture(GL_TEXTURE_2D, 0);  // (with one sample the layer is drawn into that texture)
     gl::Disable(GL_BLEND);
     gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
     gl::DepthMask(GL_TRUE);
@@ -691,8 +777,16 @@ void Paper::flush_stroke() {
   gl::Disable(GL_SCISSOR_TEST);
   gl::BindVertexArray(0);
   glu::check("stroke composite");
+  forget_layer_alpha(rect);
   stroke_pending_ = false;
   stroke_rect_ = {0, 0, 0, 0};
+}
+
+void Paper::forget_layer_alpha(const Rect& rect) {
+  // the layer was cleared over `rect`: so is the kept copy of its alpha
+  if (layer_alpha_.empty() || empty(rect)) return;
+  for (int y = rect[1]; y < rect[3]; ++y)
+    std::fill_n(&layer_alpha_[static_cast<std::size_t>(y) * W_ + rect[0]], rect[2] - rect[0], 0.0f);
 }
 
 bool Paper::undo() {
@@ -709,6 +803,7 @@ bool Paper::undo() {
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     });
     gl::Disable(GL_SCISSOR_TEST);
+    forget_layer_alpha(stroke_rect_);
     stroke_pending_ = false;
     stroke_open_ = false;
     last_brush_ = nullptr;
@@ -751,6 +846,7 @@ void Paper::clear() {
   last_brush_ = nullptr;
   stroke_rect_ = {0, 0, 0, 0};
   undo_pixels_.clear();
+  layer_alpha_.clear();
 }
 
 void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>& f) {

@@ -6,7 +6,7 @@
 
 namespace brushwork {
 
-RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt) {
+RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals) {
   const SurfaceMesh m = brush.surface_mesh(opt);
   const int A = opt.around;
   const int V = static_cast<int>(m.vertices.rows());
@@ -69,6 +69,7 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt) {
     }
   }
 
+  if (!with_normals) return r;
   // area-weighted vertex normals (for the brush view's shading and outline)
   r.normal.assign(3 * RV, 0.0f);
   for (std::size_t f = 0; f < r.faces.size(); f += 3) {

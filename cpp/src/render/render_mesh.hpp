@@ -19,7 +19,9 @@ struct RenderMesh {
   int vertices() const { return static_cast<int>(position.size() / 3); }
 };
 
-RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt);
+// with_normals = false leaves `normal` empty (the footprint pass needs none; they cost about
+// as much as the re-layout itself)
+RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals = true);
 
 // pressure per spine node in [0, 1]: how deep the lowest point of Omega_i lies below the paper,
 // in units of its minor radius c_i (seed "Dry brush": the threshold varies with node pressure)

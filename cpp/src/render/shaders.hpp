@@ -16,27 +16,43 @@ layout(location = 3) in vec3 a_center_cur;
 layout(location = 4) in vec2 a_uv;
 // The whole sweep of one deposit is one instanced draw (a draw call costs more than its pixels
 // on a software renderer): instance i < K blends the two surfaces at t = (i + 1) / K; the next
-// Ks instances slide the last surface toward this one, the Ks after them slide this one back.
+// Ks.x instances slide the last surface toward this one, the Ks.y after them slide this one back.
 uniform int u_blends;   // K
-uniform int u_slides;   // Ks (0: no slides)
+uniform ivec2 u_slides; // Ks: copies of the last part, of this part (0: no slides)
+uniform int u_first;    // instance number of this draw's first instance (one draw per kind)
 uniform vec2 u_shift;   // mm, the move of the footprint's centre from the last deposit
 uniform vec4 u_view;    // tile: (x0 mm, y0 mm, 2 / width mm, 2 / height mm)
 uniform float u_soak;   // soak_expand * excess moisture
 out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+// wetness and pressure per spine node, interpolated here at the vertex's s: the rings include
+// every node (s = i / n), so no triangle straddles one and the linear interpolation across the
+// triangle is the piecewise-linear profile itself (and the fragment shader does no indexing)
+uniform int u_nodes;          // spine nodes n + 1
+uniform float u_wet[33];      // wetness per node, root first, [0, 1]
+uniform float u_press[33];    // pressure per node, [0, 1]
+out float v_wet;
+out float v_press;
+float along(float s, bool wet) {
+  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
+  int i = min(int(x), u_nodes - 2);
+  return wet ? mix(u_wet[i], u_wet[i + 1], x - float(i)) : mix(u_press[i], u_press[i + 1], x - float(i));
+}
+#endif
 void main() {
-  int i = gl_InstanceID;
+  int i = gl_InstanceID + u_first;
   float t;
   vec2 shift = vec2(0.0);
   if (i < u_blends) {
     t = float(i + 1) / float(u_blends);
-  } else if (i < u_blends + u_slides) {
+  } else if (i < u_blends + u_slides.x) {
     t = 0.0;
-    shift = u_shift * (float(i - u_blends + 1) / float(u_slides));
+    shift = u_shift * (float(i - u_blends + 1) / float(u_slides.x));
   } else {
     t = 1.0;
-    shift = u_shift * (float(i - u_blends - u_slides + 1) / float(u_slides) - 1.0);
+    shift = u_shift * (float(i - u_blends - u_slides.x + 1) / float(u_slides.y) - 1.0);
   }
   vec3 p = mix(a_prev, a_cur, t);
 #ifdef USE_SOAK
@@ -46,6 +62,10 @@ void main() {
 #endif
   p.xy += shift;
   v_uv = a_uv;
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+  v_wet = along(a_uv.x, true);
+  v_press = along(a_uv.x, false);
+#endif
   v_z = p.z;
   v_mm = p.xy;
   gl_Position = vec4((p.xy - u_view.xy) * u_view.zw - 1.0, 0.0, 1.0);
@@ -56,9 +76,10 @@ inline constexpr const char* kFootprintFragment = R"(#version 330 core
 in vec2 v_uv;
 in float v_z;
 in vec2 v_mm;
-uniform int u_nodes;          // spine nodes n + 1
-uniform float u_wet[33];      // wetness per node, root first, [0, 1]
-uniform float u_press[33];    // pressure per node, [0, 1]
+#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+in float v_wet;               // wetness of the spine at this fragment's s, [0, 1]
+in float v_press;             // pressure, [0, 1]
+#endif
 uniform vec4 u_color;         // straight RGBA of the ink (no ramp)
 uniform sampler2D u_split;    // (around, along) alpha
 uniform sampler2D u_dry;      // (around, along) grey
@@ -68,18 +89,6 @@ uniform float u_soak_shift;   // soak_shift * excess moisture
 uniform vec4 u_dry_param;     // dry onset, dry pressure, grain onset, grain pressure
 uniform float u_grain_scale;  // 1 / grain period, 1/mm
 out vec4 o_color;
-
-// a per-node quantity interpolated at s in [0, 1] along the spine (node i at s = i / n)
-float along_wet(float s) {
-  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
-  int i = min(int(x), u_nodes - 2);
-  return mix(u_wet[i], u_wet[i + 1], x - float(i));
-}
-float along_press(float s) {
-  float x = clamp(s, 0.0, 1.0) * float(u_nodes - 1);
-  int i = min(int(x), u_nodes - 2);
-  return mix(u_press[i], u_press[i + 1], x - float(i));
-}
 
 void main() {
   // coverage of the pixel by the part below the paper: the footprint's edge is where the
@@ -100,10 +109,10 @@ void main() {
   a *= texture(u_split, vec2(v_uv.y, s * (1.0 - u_soak_shift))).r;
 #endif
 #if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
-  float wet = along_wet(s);
+  float wet = v_wet;
 #endif
 #if defined(USE_DRY) || defined(USE_GRAIN)
-  float press = along_press(s);
+  float press = v_press;
 #endif
 #ifdef USE_DRY
   // seed "Dry brush": only the peaks of the bristle height field touch a dry brush; the
@@ -122,8 +131,11 @@ void main() {
 #endif
   if (a <= 1.0 / 4096.0) discard;
   o_color = vec4(rgb * a, a);
-  // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha)
+#ifndef USE_MAX_BLEND
+  // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha; with
+  // one ink colour the blend equation MAX does it)
   gl_FragDepth = 1.0 - a;
+#endif
 }
 )";
 
