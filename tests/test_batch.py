@@ -85,6 +85,15 @@ def test_render_16_bit_on_transparency(tmp_path):
     assert alpha.min() == 0 and alpha.max() > 60000      # paper transparent, ink opaque
 
 
+def test_render_single_sample_and_bad_samples(tmp_path, capsys):
+    out = tmp_path / "s1.png"
+    assert run_cli("render", "十", "-o", out, "--size", 64, "--samples", 1) == 0
+    ink = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE) < 128
+    assert ink.mean() > 0.02
+    assert run_cli("render", "十", "-o", tmp_path / "s3.png", "--samples", 3) == 2
+    assert "expected 1, 2, 4 or 8" in capsys.readouterr().err
+
+
 def bad_glyph_dir(tmp_path, name, text):
     folder = tmp_path / "src"
     folder.mkdir(exist_ok=True)

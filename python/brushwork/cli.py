@@ -154,6 +154,9 @@ def _look_args(p: argparse.ArgumentParser, size: int = 1024) -> None:
 
 
 def _image_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--samples", type=int, default=None,
+                   help="multisampling of the strokes: 1, 2, 4 or 8 (default: the style's, 4); "
+                        "1 is ~2.5x faster on a software renderer, its edges stepped at the pixel")
     p.add_argument("--bits", type=int, default=8, help="PNG bits per channel, 8 or 16 (default 8)")
     p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
 
@@ -166,7 +169,7 @@ def _render_text_args(p: argparse.ArgumentParser) -> None:
 
 
 def _render_text(args: argparse.Namespace) -> int:
-    from .batch import check_bits, check_size, parse_charset, text_paper
+    from .batch import check_bits, check_samples, check_size, parse_charset, text_paper
     from .bench.report import check_writable
     from .glyphs import load_source
     from .motion import Style
@@ -176,11 +179,12 @@ def _render_text(args: argparse.Namespace) -> int:
         raise ValueError("no characters to render")
     check_size(args.size)
     check_bits(args.bits)
+    check_samples(args.samples)
     style = Style.load(args.style)
     check_writable(args.output)                   # before the work, not after
     glyphs = load_source(args.source, chars)      # an unknown character: GlyphError naming the source
     t0 = time.perf_counter()
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed)
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples)
     path = paper.save(args.output, bits=args.bits, background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({len(chars)} characters, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
@@ -214,7 +218,7 @@ def _batch(args: argparse.Namespace) -> int:
         check_writable(args.sheet)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress)
+                          progress=not args.no_progress, samples=args.samples)
     print(batch.summary(res))
     if args.sheet and not res.interrupted:
         from .sheet import contact_sheet
@@ -255,14 +259,18 @@ def _bench_batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=int, default=1024, help="px per character (default 1024)")
     p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--samples", type=int, default=None, help="multisampling: 1, 2, 4 or 8 (default: the style's)")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
 
 
 def _bench_batch(args: argparse.Namespace) -> int:
+    from .batch import check_samples
     from .bench import glyphs
 
+    check_samples(args.samples)
     return _report("batch", args, lambda: glyphs.run_batch_bench(args.source, args.count, args.size, args.jobs,
-                                                                 args.style), glyphs.batch_table)
+                                                                 args.style, samples=args.samples),
+                   glyphs.batch_table)
 
 
 # demo (brushwork.demo is someone else's module: imported only when asked for)

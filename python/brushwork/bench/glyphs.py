@@ -148,7 +148,7 @@ class _Timed:
             self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
 
 
-def breakdown(glyphs: list, size: int, style: str = "kai") -> dict:
+def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
     """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
     step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
     st = Style.load(style)
@@ -157,7 +157,8 @@ def breakdown(glyphs: list, size: int, style: str = "kai") -> dict:
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
-            paper = Paper(st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+            paper = Paper(st.em_mm, st.em_mm, size / st.em_mm,
+                          scene=Scene(**dict(st.scene, **({"samples": samples} if samples else {}))))
             writer = Writer(paper, st, k)
             writer.brush.step = _Timed(writer.brush.step, "step", counters)
             paper.deposit = _Timed(paper.deposit, "deposit", counters)
@@ -172,7 +173,7 @@ def breakdown(glyphs: list, size: int, style: str = "kai") -> dict:
 
 
 def run_batch_bench(source: str = "default", count: int = 40, size: int = 1024, jobs: int = 2,
-                    style: str = "kai", progress: bool = True) -> dict:
+                    style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
     across the set (those the source has), then one process's time breakdown on a few of them."""
     size = bt.check_size(size)
@@ -185,9 +186,11 @@ def run_batch_bench(source: str = "default", count: int = 40, size: int = 1024, 
     picked = [chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))]
     text = "".join(dict.fromkeys(picked))
     with tempfile.TemporaryDirectory() as tmp:
-        res = bt.run_batch(text, tmp, source=source, jobs=jobs, size=size, style=style, progress=progress)
-    parts = breakdown([have[c] for c in text[:4]], size, style)
-    return {"source": source, "size": size, "jobs": jobs, "style": style, "characters": len(res.written),
+        res = bt.run_batch(text, tmp, source=source, jobs=jobs, size=size, style=style, progress=progress,
+                           samples=samples)
+    parts = breakdown([have[c] for c in text[:4]], size, style, samples)
+    return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's",
+            "characters": len(res.written),
             "failed": res.failed, "seconds": res.seconds, "chars_per_s": res.chars_per_s,
             "gb2312_hours": len(bt.gb2312()) / res.chars_per_s / 3600.0 if res.chars_per_s else None,
             "breakdown": parts}
@@ -196,7 +199,7 @@ def run_batch_bench(source: str = "default", count: int = 40, size: int = 1024, 
 def batch_table(result: dict) -> str:
     b = result["breakdown"]
     lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
-             f"{result['jobs']} jobs: {result['chars_per_s']:.2f} characters/s "
+             f"{result['jobs']} jobs, samples {result['samples']}: {result['chars_per_s']:.2f} characters/s "
              f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
              "",
              f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",
