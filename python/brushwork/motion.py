@@ -70,6 +70,10 @@ class Style:
     scene: dict = field(default_factory=lambda: {"depletion": True})
     jitter: float = 0.03          # seeded relative variation of stroke width and pressure
     corner_press: float = 1.2     # width factor at a corner of the centreline (折)
+    direction_gain: float = 0.0   # plain strokes and hooks: width factor 1 + g (2 |sin heading| - 1),
+                                  # Kai's verticals 竖 broader than its horizontals 横 (the brush held slanted)
+    end_reach_em: float | None = None  # how far the footprint may reach past a median's end, em
+                                  # (None: half the stroke's width)
     profiles: dict = field(default_factory=dict)  # family -> [[s in 0..1, width factor], ...]
 
     @classmethod
@@ -196,12 +200,15 @@ class Writer:
         w_nom = st.width_em * st.em_mm * (1.0 + st.jitter * self.rng.standard_normal())
         width = w_nom * np.interp(s / length, prof[:, 0], prof[:, 1])
         width *= 1.0 + (st.corner_press - 1.0) * _corners(path)
+        if family(kind) in ("plain", "hook"):
+            width *= 1.0 + st.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
         tilt = st.tilt_deg
 
-        # the footprint must not reach past the stroke's ends by more than half a width: its
-        # centre's arc length is held within [behind - w/2, length + w/2 - ahead]
+        # the footprint must not reach past the stroke's ends by more than `reach` (mm; half a
+        # width unless the style says): its centre's arc length is held within
+        # [behind - reach, length + reach - ahead]
         def target(j: int) -> np.ndarray:
-            half = 0.5 * width[j]
+            half = 0.5 * width[j] if st.end_reach_em is None else st.end_reach_em * st.em_mm
             lo, hi = self.behind - half, length + half - self.ahead
             sj = 0.5 * (lo + hi) if lo > hi else float(np.clip(s[j], lo, hi))
             sj = float(np.clip(sj, 0.0, length))
