@@ -65,6 +65,7 @@ class Style:
     width_gain: float = 0.06      # press change (L) per unit of relative width error
     entry_frames: int = 5         # frames pressing down at a stroke's start
     exit_frames: int = 4          # frames lifting at its end
+    air_frames: int = 0           # frames hovering over a stroke's start, aiming the tip, before the entry
     hover: float = 0.12           # height above first contact between strokes, fraction of L
     ink_mm2: float = 6000.0       # ink the brush is dipped with, mm^2 of paper at full density
     scene: dict = field(default_factory=lambda: {"depletion": True})
@@ -218,8 +219,10 @@ class Writer:
         # tuft lies down from its tip, so the tip marks the stroke's rear end), then pressed
         self.behind = self.ahead = 0.5 * width[0]
         c, sn = math.cos(heading[0]), math.sin(heading[0])
-        for j in range(st.entry_frames):
-            t = (j + 1) / st.entry_frames
+        for j in range(-st.air_frames, st.entry_frames):
+            # first `air_frames` frames hovering, the tip swung over the start before it touches
+            # (a descent still being aimed lays ink on its way in), then pressing down
+            t = max(0, j + 1) / st.entry_frames
             p0 = target(0)
             self._step(p0, heading[0], -st.hover + (self.press + st.hover) * t, tilt)
             if not self.brush.footprint():
