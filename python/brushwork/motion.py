@@ -75,6 +75,9 @@ class Style:
                                   # Kai's verticals 竖 broader than its horizontals 横 (the brush held slanted)
     end_reach_em: float | None = None  # how far the footprint may reach past a median's end, em
                                   # (None: half the stroke's width)
+    start_reach_em: float | None = None  # the same before its start (None: as end_reach_em)
+    offset_em: tuple = (0.0, 0.0)  # (x, y) em added to every centreline point: a Kai stroke's body
+                                  # hangs below-right of the line its tip follows (笔锋 on the upper left)
     profiles: dict = field(default_factory=dict)  # family -> [[s in 0..1, width factor], ...]
 
     @classmethod
@@ -208,9 +211,13 @@ class Writer:
         # the footprint must not reach past the stroke's ends by more than `reach` (mm; half a
         # width unless the style says): its centre's arc length is held within
         # [behind - reach, length + reach - ahead]
+        def reach(r_em: float | None, j: int) -> float:
+            return 0.5 * width[j] if r_em is None else r_em * st.em_mm
+
+        start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
+
         def target(j: int) -> np.ndarray:
-            half = 0.5 * width[j] if st.end_reach_em is None else st.end_reach_em * st.em_mm
-            lo, hi = self.behind - half, length + half - self.ahead
+            lo, hi = self.behind - reach(start_reach, j), length + reach(st.end_reach_em, j) - self.ahead
             sj = 0.5 * (lo + hi) if lo > hi else float(np.clip(s[j], lo, hi))
             sj = float(np.clip(sj, 0.0, length))
             return np.array([np.interp(sj, s, path[:, 0]), np.interp(sj, s, path[:, 1])])
@@ -263,7 +270,7 @@ class Writer:
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
         for stroke in glyph.strokes:
-            pts = o + np.asarray(stroke.points, dtype=float) * st.em_mm
+            pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
             h0 = math.atan2(d0[1], d0[0])
             self.travel(pts[0], h0)
