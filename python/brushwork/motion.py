@@ -63,6 +63,7 @@ class Style:
     position_gain: float = 0.8    # fraction of the footprint's position error corrected per frame
     across_gain: float = 0.8      # the same, across the stroke
     width_gain: float = 0.06      # press change (L) per unit of relative width error
+    press_feedforward: float = 0.0  # press change (L) per unit change of the profile's width / nominal
     entry_frames: int = 5         # frames pressing down at a stroke's start
     exit_frames: int = 4          # frames lifting at its end
     air_frames: int = 0           # frames hovering over a stroke's start, aiming the tip, before the entry
@@ -240,6 +241,12 @@ class Writer:
                 self._observe(p0, heading[0], width[0] if t >= 1.0 else None)
         # travel
         for j in range(len(path)):
+            if j > 0:
+                # feedforward: the press follows the profile's own change at once (L per unit of
+                # relative width change); the footprint loop only trims. A spread tuft keeps its
+                # width while the press eases (the hairs stick splayed), so a tapering exit 出锋
+                # must lift ahead of what the footprint shows
+                self.press = float(np.clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom, 0.0, 0.45))
             pj = target(j)
             self._step(pj, heading[j], self.press, tilt)
             self._observe(pj, heading[j], width[j])
