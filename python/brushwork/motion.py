@@ -72,6 +72,8 @@ class Style:
     scene: dict = field(default_factory=lambda: {"depletion": True})
     jitter: float = 0.03          # seeded relative variation of stroke width and pressure
     corner_press: float = 1.2     # width factor at a corner of the centreline (折)
+    density_gain: float = 0.0     # width factor 1 - g (n - density_strokes) for a character of n strokes:
+    density_strokes: float = 9.3  # a Kai hand thins the strokes of a busy character, fattens a sparse one
     direction_gain: float = 0.0   # plain strokes and hooks: width factor 1 + g (2 |sin heading| - 1),
                                   # Kai's verticals 竖 broader than its horizontals 横 (the brush held slanted)
     end_reach_em: float | None = None  # how far the footprint may reach past a median's end, em
@@ -164,6 +166,7 @@ class Writer:
         self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
         self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
         self.frames = 0
+        self.density = 1.0                # width factor of the character being written (density_gain)
 
     def _z(self, press: float, tilt: float) -> float:
         return self.L * math.cos(math.radians(tilt)) - press * self.L
@@ -202,7 +205,7 @@ class Writer:
         heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
         length = max(s[-1], 1e-6)
         prof = np.asarray(st.profiles[family(kind)], dtype=float)
-        w_nom = st.width_em * st.em_mm * (1.0 + st.jitter * self.rng.standard_normal())
+        w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         width = w_nom * np.interp(s / length, prof[:, 0], prof[:, 1])
         width *= 1.0 + (st.corner_press - 1.0) * _corners(path)
         if family(kind) in ("plain", "hook"):
@@ -276,6 +279,7 @@ class Writer:
         st = self.style
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
+        self.density = float(np.clip(1.0 - st.density_gain * (len(glyph.strokes) - st.density_strokes), 0.7, 1.3))
         for stroke in glyph.strokes:
             pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
