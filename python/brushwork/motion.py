@@ -63,13 +63,24 @@ class Style:
     position_gain: float = 0.8    # fraction of the footprint's position error corrected per frame
     across_gain: float = 0.8      # the same, across the stroke
     width_gain: float = 0.06      # press change (L) per unit of relative width error
+    press_feedforward: float = 0.0  # press change (L) per unit change of the profile's width / nominal
     entry_frames: int = 5         # frames pressing down at a stroke's start
     exit_frames: int = 4          # frames lifting at its end
+    air_frames: int = 0           # frames hovering over a stroke's start, aiming the tip, before the entry
     hover: float = 0.12           # height above first contact between strokes, fraction of L
     ink_mm2: float = 6000.0       # ink the brush is dipped with, mm^2 of paper at full density
     scene: dict = field(default_factory=lambda: {"depletion": True})
     jitter: float = 0.03          # seeded relative variation of stroke width and pressure
     corner_press: float = 1.2     # width factor at a corner of the centreline (折)
+    density_gain: float = 0.0     # width factor 1 - g (n - density_strokes) for a character of n strokes:
+    density_strokes: float = 9.3  # a Kai hand thins the strokes of a busy character, fattens a sparse one
+    direction_gain: float = 0.0   # plain strokes and hooks: width factor 1 + g (2 |sin heading| - 1),
+                                  # Kai's verticals 竖 broader than its horizontals 横 (the brush held slanted)
+    end_reach_em: float | None = None  # how far the footprint may reach past a median's end, em
+                                  # (None: half the stroke's width)
+    start_reach_em: float | None = None  # the same before its start (None: as end_reach_em)
+    offset_em: tuple = (0.0, 0.0)  # (x, y) em added to every centreline point: a Kai stroke's body
+                                  # hangs below-right of the line its tip follows (笔锋 on the upper left)
     profiles: dict = field(default_factory=dict)  # family -> [[s in 0..1, width factor], ...]
 
     @classmethod
@@ -155,6 +166,7 @@ class Writer:
         self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
         self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
         self.frames = 0
+        self.density = 1.0                # width factor of the character being written (density_gain)
 
     def _z(self, press: float, tilt: float) -> float:
         return self.L * math.cos(math.radians(tilt)) - press * self.L
@@ -193,16 +205,23 @@ class Writer:
         heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
         length = max(s[-1], 1e-6)
         prof = np.asarray(st.profiles[family(kind)], dtype=float)
-        w_nom = st.width_em * st.em_mm * (1.0 + st.jitter * self.rng.standard_normal())
+        w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         width = w_nom * np.interp(s / length, prof[:, 0], prof[:, 1])
         width *= 1.0 + (st.corner_press - 1.0) * _corners(path)
+        if family(kind) in ("plain", "hook"):
+            width *= 1.0 + st.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
         tilt = st.tilt_deg
 
-        # the footprint must not reach past the stroke's ends by more than half a width: its
-        # centre's arc length is held within [behind - w/2, length + w/2 - ahead]
+        # the footprint must not reach past the stroke's ends by more than `reach` (mm; half a
+        # width unless the style says): its centre's arc length is held within
+        # [behind - reach, length + reach - ahead]
+        def reach(r_em: float | None, j: int) -> float:
+            return 0.5 * width[j] if r_em is None else r_em * st.em_mm
+
+        start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
+
         def target(j: int) -> np.ndarray:
-            half = 0.5 * width[j]
-            lo, hi = self.behind - half, length + half - self.ahead
+            lo, hi = self.behind - reach(start_reach, j), length + reach(st.end_reach_em, j) - self.ahead
             sj = 0.5 * (lo + hi) if lo > hi else float(np.clip(s[j], lo, hi))
             sj = float(np.clip(sj, 0.0, length))
             return np.array([np.interp(sj, s, path[:, 0]), np.interp(sj, s, path[:, 1])])
@@ -211,8 +230,10 @@ class Writer:
         # tuft lies down from its tip, so the tip marks the stroke's rear end), then pressed
         self.behind = self.ahead = 0.5 * width[0]
         c, sn = math.cos(heading[0]), math.sin(heading[0])
-        for j in range(st.entry_frames):
-            t = (j + 1) / st.entry_frames
+        for j in range(-st.air_frames, st.entry_frames):
+            # first `air_frames` frames hovering, the tip swung over the start before it touches
+            # (a descent still being aimed lays ink on its way in), then pressing down
+            t = max(0, j + 1) / st.entry_frames
             p0 = target(0)
             self._step(p0, heading[0], -st.hover + (self.press + st.hover) * t, tilt)
             if not self.brush.footprint():
@@ -223,6 +244,12 @@ class Writer:
                 self._observe(p0, heading[0], width[0] if t >= 1.0 else None)
         # travel
         for j in range(len(path)):
+            if j > 0:
+                # feedforward: the press follows the profile's own change at once (L per unit of
+                # relative width change); the footprint loop only trims. A spread tuft keeps its
+                # width while the press eases (the hairs stick splayed), so a tapering exit 出锋
+                # must lift ahead of what the footprint shows
+                self.press = float(np.clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom, 0.0, 0.45))
             pj = target(j)
             self._step(pj, heading[j], self.press, tilt)
             self._observe(pj, heading[j], width[j])
@@ -252,8 +279,9 @@ class Writer:
         st = self.style
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
+        self.density = float(np.clip(1.0 - st.density_gain * (len(glyph.strokes) - st.density_strokes), 0.7, 1.3))
         for stroke in glyph.strokes:
-            pts = o + np.asarray(stroke.points, dtype=float) * st.em_mm
+            pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
             h0 = math.atan2(d0[1], d0[0])
             self.travel(pts[0], h0)
