@@ -191,6 +191,7 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["characters"] == 2 and len(res["rows"]) == 2
     assert res["worst_iou"] <= res["p10_iou"] <= res["mean_iou"] <= 1.0
     assert res["worst"][0][1] == res["worst_iou"]
+    assert 0.3 < res["round_pen_mean_iou"] < 1.0          # the baseline, scored in the same run
     assert cv2.imread(res["sheet"]) is not None
     with pytest.raises(ValueError, match="no stroke outlines"):
         bench_glyphs.run("glyphs:" + str(Path(glyph_sources.bundled_dir())), size=32, count=1, progress=False)

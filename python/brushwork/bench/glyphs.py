@@ -44,6 +44,22 @@ def overlay(ink: np.ndarray, ref: np.ndarray) -> np.ndarray:
     return img
 
 
+ROUND_PEN_EM = 45.0 / 1024.0   # width of the round-pen baseline, em (its best on the MMAH dev set)
+
+
+def round_pen_mask(glyph, size: int, width_em: float = ROUND_PEN_EM) -> np.ndarray:
+    """(size, size) bool: a round pen of constant width drawn along the glyph's centrelines, the
+    baseline a brush must beat (OpenCV thick polylines, round joins and caps)."""
+    import cv2
+
+    mask = np.zeros((size, size), np.uint8)
+    thick = max(1, int(round(width_em * size)))
+    for stroke in glyph.strokes:
+        px = np.stack([stroke.points[:, 0] * size, (1.0 - stroke.points[:, 1]) * size], axis=1)
+        cv2.polylines(mask, [np.round(px * 16).astype(np.int32)], False, 1, thick, cv2.LINE_8, 4)
+    return mask.astype(bool)
+
+
 def _score(task: tuple) -> tuple:
     """(char, Glyph) -> (char, IoU or None, seconds, overlay (OVERLAY_PX^2 BGR) or None, error or None)."""
     import cv2
@@ -55,7 +71,8 @@ def _score(task: tuple) -> tuple:
         ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
         ref = outline_mask(glyph, _JOB["size"])
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
-        return char, iou(ink, ref), time.perf_counter() - t0, small, None
+        pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
+        return char, (iou(ink, ref), pen), time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
 
@@ -82,7 +99,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
                                                               (style, size, seed)):
             if err is None:
-                rows[char], overlays[char] = (score, secs), small
+                rows[char], overlays[char] = (score[0], secs, score[1]), small
             else:
                 failed.append((char, err))
             if bar is not None:
@@ -101,8 +118,11 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         "p10_iou": float(np.percentile(scores, 10)) if len(scores) else None,
         "worst_iou": float(scores.min()) if len(scores) else None,
         "worst": [[c, rows[c][0]] for c in worst],
+        "round_pen_mean_iou": float(np.mean([rows[c][2] for c in order])) if order else None,
+        "round_pen_width_em": ROUND_PEN_EM,
         "chars_per_s": len(order) / wall if wall > 0 else None,
-        "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "seconds": rows[c][1]}
+        "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "round_pen_iou": rows[c][2],
+                  "seconds": rows[c][1]}
                  for c in order],
     }
     if sheet:
@@ -122,6 +142,8 @@ def table(result: dict) -> str:
              f"| mean | {result['mean_iou']:.3f} |",
              f"| 10th percentile | {result['p10_iou']:.3f} |",
              f"| worst | {result['worst_iou']:.3f} |",
+             f"| (baseline: round pen of width {result['round_pen_width_em'] * 1024:.0f}/1024 em, mean) "
+             f"| {result['round_pen_mean_iou']:.3f} |",
              "",
              "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
              f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
