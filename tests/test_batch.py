@@ -147,18 +147,28 @@ def test_batch_names_resumes_and_reports_failures(tmp_path, capsys):
                  "--no-progress")
     captured = capsys.readouterr().out
     assert rc == 2                                   # x failed, the rest were written
-    assert sorted(p.name for p in out.iterdir()) == ["U+548C.png", "U+660E.png", "U+6C38.png"]
+    assert sorted(p.name for p in out.iterdir()) == ["U+548C.png", "U+660E.png", "U+6C38.png", "failed.txt"]
     assert "3 written, 0 already there, 1 failed" in captured and "failed x (U+0078)" in captured
-    stamp = {p.name: p.stat().st_mtime_ns for p in out.iterdir()}
+    assert (out / "failed.txt").read_text(encoding="utf-8").startswith("failed x (U+0078): ")
+    stamp = {p.name: p.stat().st_mtime_ns for p in out.glob("U+*.png")}
     # run again with one more: the finished files are skipped, not redone
     rc = run_cli("batch", "--chars", "永和明它", "--out", out, "--size", 64, "--jobs", 1, "--source", MMAH,
                  "--sheet", tmp_path / "sheet.png", "--no-progress")
     captured = capsys.readouterr().out
     assert rc == 0 and "1 written, 3 already there, 0 failed" in captured
+    assert not (out / "failed.txt").exists()          # nothing failed this time
     assert all((out / n).stat().st_mtime_ns == t for n, t in stamp.items())
     sheet = cv2.imread(str(tmp_path / "sheet.png"))
     assert sheet is not None and sheet.shape[0] > 100
     assert not list(out.glob(".brushwork-*"))        # no temporary file left behind
+
+
+def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path):
+    res = batch.BatchResult(written=["永"], failed=[(chr(0x4E00 + k), "no glyph") for k in range(25)])
+    path = batch.write_failures(res, tmp_path)
+    text = batch.summary(res, path)
+    assert sum(ln.startswith("  failed ") for ln in text.splitlines()) == batch.SHOWN_FAILURES and "... and 5 more" in text and str(path) in text
+    assert len(path.read_text(encoding="utf-8").splitlines()) == 25
 
 
 def test_batch_charset_files(tmp_path):
@@ -217,3 +227,30 @@ def test_default_source_bundled_then_kanjivg(monkeypatch):
     monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
     with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
         load_source("default", "鬱")
+
+
+def test_batch_stopped_by_sigterm_keeps_whole_files_and_resumes(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "brushwork", "batch", "--chars", "凡和它明永", "--out", str(out), "--size", "2048",
+           "--jobs", "1", "--source", MMAH, "--no-progress"]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob("U+*.png")) and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.1)
+    proc.send_signal(signal.SIGTERM)                  # after the first file, well before the fifth
+    stdout, _ = proc.communicate(timeout=120)
+    assert proc.returncode == 130, stdout
+    assert "interrupted: run the same command again to resume" in stdout
+    done = sorted(p.name for p in out.glob("U+*.png"))
+    assert 1 <= len(done) < 5 and not list(out.glob(".brushwork-*"))
+    for name in done:                                 # every file there is a whole PNG
+        assert cv2.imread(str(out / name)) is not None
+    cmd[cmd.index("2048")] = "64"                     # the rest, quickly: finished files are skipped
+    rerun = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
+    assert rerun.returncode == 0 and f"{len(done)} already there" in rerun.stdout

@@ -231,7 +231,7 @@ def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple):
     saved = {k: os.environ.get(k) for k in _ONE_THREAD}
     os.environ.update(_ONE_THREAD)
     try:
-        pool = mp.get_context("spawn").Pool(min(jobs, len(tasks)), initializer, initargs)
+        pool = mp.get_context("spawn").Pool(min(jobs, len(tasks)), _quiet_init, (initializer, initargs))
     finally:
         for k, v in saved.items():
             if v is None:
@@ -240,6 +240,14 @@ def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple):
                 os.environ[k] = v
     with pool:
         yield from pool.imap_unordered(fn, tasks)
+
+
+def _quiet_init(initializer, initargs: tuple) -> None:
+    """A worker leaves Ctrl-C to the parent, which stops the pool and prints the summary."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    initializer(*initargs)
 
 
 def sheet_cells(chars: str, out_dir: str | os.PathLike, failed: dict) -> list:
@@ -259,12 +267,36 @@ def sheet_cells(chars: str, out_dir: str | os.PathLike, failed: dict) -> list:
     return cells
 
 
-def summary(result: BatchResult) -> str:
-    """The lines printed at the end of a batch."""
+SHOWN_FAILURES = 20   # failures listed in the summary; all of them go to OUT/failed.txt
+
+
+def _failure_line(char: str, why: str) -> str:
+    return f"failed {char} (U+{ord(char):04X}): {why}" if len(char) == 1 else f"failed: {why}"
+
+
+def write_failures(result: BatchResult, out_dir: str | os.PathLike) -> Path | None:
+    """Every failure of this run, a line each, in out_dir/failed.txt (atomically); the file is
+    removed when nothing failed. Returns its path or None."""
+    path = Path(out_dir) / "failed.txt"
+    if not result.failed:
+        path.unlink(missing_ok=True)
+        return None
+    tmp = path.with_name(".failed.txt.tmp")
+    tmp.write_text("".join(_failure_line(c, w) + "\n" for c, w in result.failed), encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+def summary(result: BatchResult, failures_file: Path | None = None) -> str:
+    """The lines printed at the end of a batch: counts, then the first SHOWN_FAILURES failures."""
     lines = [f"{len(result.written)} written, {len(result.skipped)} already there, {len(result.failed)} failed"
              f" in {result.seconds:.1f} s ({result.chars_per_s:.2f} chars/s)"]
     if result.interrupted:
         lines.append("interrupted: run the same command again to resume (finished files are kept)")
-    for char, why in result.failed:
-        lines.append(f"  failed {char} (U+{ord(char):04X}): {why}" if char != "?" else f"  failed: {why}")
+    lines += ["  " + _failure_line(c, w) for c, w in result.failed[:SHOWN_FAILURES]]
+    if len(result.failed) > SHOWN_FAILURES:
+        lines.append(f"  ... and {len(result.failed) - SHOWN_FAILURES} more"
+                     + (f": every failure is listed in {failures_file}" if failures_file else ""))
+    elif failures_file:
+        lines.append(f"  (also listed in {failures_file})")
     return "\n".join(lines)

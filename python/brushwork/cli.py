@@ -216,10 +216,18 @@ def _batch(args: argparse.Namespace) -> int:
         from .bench.report import check_writable
 
         check_writable(args.sheet)
+    # a batch stopped by SIGTERM (a scheduler's kill, `timeout`) ends like Ctrl-C: workers stopped,
+    # the summary printed; finished files are whole (atomic writes) and a rerun resumes
+    import signal
+
+    def _stop(signum, frame):
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples)
-    print(batch.summary(res))
+    print(batch.summary(res, batch.write_failures(res, args.out)))
     if args.sheet and not res.interrupted:
         from .sheet import contact_sheet
 
