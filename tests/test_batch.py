@@ -76,6 +76,13 @@ def test_render_writes_a_row_of_characters(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_a_row_wider_than_the_paper_allows_is_refused(mmah_glyphs):
+    with pytest.raises(ValueError, match="5 characters x 8192 px = 40960 px wide"):
+        batch.text_paper([mmah_glyphs["永"]] * 5, 8192)
+    with pytest.raises(ValueError, match="no characters"):
+        batch.text_paper([], 64)
+
+
 def test_render_16_bit_on_transparency(tmp_path):
     out = tmp_path / "yong16.png"
     assert run_cli("render", "永", "-o", out, "--size", 64, "--bits", 16, "--transparent") == 0

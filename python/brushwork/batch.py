@@ -17,12 +17,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .glyphs import GlyphError, load_source
-from .motion import Style, Writer
+from .glyphs import load_source
+from .motion import Style, Writer, check_samples, check_size, writing_paper
 from .paper import Paper
-from .scene import Scene
 
-MAX_SIDE = 32768     # px: the paper's largest side
 _ONE_THREAD = {"LP_NUM_THREADS": "1", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
 
@@ -31,23 +29,10 @@ def output_name(char: str) -> str:
     return f"U+{ord(char):04X}.png"
 
 
-def check_size(size: int) -> int:
-    size = int(size)
-    if not 16 <= size <= 8192:
-        raise ValueError(f"--size {size}: expected 16..8192 px")
-    return size
-
-
 def check_bits(bits: int) -> int:
     if bits not in (8, 16):
         raise ValueError(f"--bits {bits}: expected 8 or 16")
     return bits
-
-
-def check_samples(samples: int | None) -> int | None:
-    if samples is not None and samples not in (1, 2, 4, 8):
-        raise ValueError(f"--samples {samples}: expected 1, 2, 4 or 8")
-    return samples
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
@@ -57,17 +42,8 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
     stroke layer (None: the style's scene, 4 unless it says otherwise; 1 is ~2.5x faster on a
     software renderer, with edges stepped at the pixel)."""
-    size = check_size(size)
-    check_samples(samples)
     st = style if isinstance(style, Style) else Style.load(style)
-    n = len(glyphs)
-    if n == 0:
-        raise ValueError("no characters to render")
-    if n * size > MAX_SIDE:
-        raise ValueError(f"{n} characters x {size} px = {n * size} px wide: more than {MAX_SIDE}; "
-                         "use a smaller --size or `brushwork batch`")
-    scene = dict(st.scene, **({"samples": samples} if samples else {}))
-    paper = Paper(n * st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**scene))
+    paper = writing_paper(st, size, len(glyphs), samples)
     writer = Writer(paper, st, seed)
     for k, glyph in enumerate(glyphs):
         writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))

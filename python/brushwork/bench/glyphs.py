@@ -22,9 +22,7 @@ import numpy as np
 from .. import batch as bt
 from ..glyphs import load_source
 from ..glyphs.score import has_outlines, iou, outline_mask
-from ..motion import Style, Writer
-from ..paper import Paper
-from ..scene import Scene
+from ..motion import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 
@@ -179,8 +177,7 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
-            paper = Paper(st.em_mm, st.em_mm, size / st.em_mm,
-                          scene=Scene(**dict(st.scene, **({"samples": samples} if samples else {}))))
+            paper = writing_paper(st, size, samples=samples)
             writer = Writer(paper, st, k)
             writer.brush.step = _Timed(writer.brush.step, "step", counters)
             paper.deposit = _Timed(paper.deposit, "deposit", counters)
@@ -242,7 +239,7 @@ def written_ink(glyph, overrides: dict | None = None, size: int = 512, style: st
     """(size, size) bool ink mask of glyph written by the driver with a brush whose model fields
     are changed by `overrides` (e.g. {"q_max": 5}); the driver's own loops run as in a batch."""
     st = Style.load(style)
-    paper = Paper(st.em_mm, st.em_mm, size / st.em_mm, scene=Scene(**st.scene))
+    paper = writing_paper(st, size)
     writer = Writer(paper, st, 0)
     if overrides:
         from ..brush import Brush
