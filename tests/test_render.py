@@ -189,6 +189,20 @@ def test_straight_strokes_stay_connected_at_any_drag_speed(radii_per_frame):
     assert cols.max() - cols.min() >= 0.9 * length
 
 
+def test_blended_footprints_are_close_enough_to_leave_no_saw_teeth():
+    # a 2 mm-a-frame drag at 10 px/mm: 20 px between deposits.  The footprint has corners, and
+    # a corner moved in steps of d leaves a staircase up to d/2 deep along a slanted edge, so
+    # the deposits are blended at least every 2.5 px (the disc-scallop rule alone gave ~6 px)
+    model = bw.BrushModel.preset("small")
+    step_mm, ppm = 2.0, 10.0
+    paper = bw.Paper(90, 60, ppm)
+    stats = draw(paper, bw.Brush(model), straight_stroke(model, start=(15, 15), length_mm=50,
+                                                         step_mm=step_mm, press=0.3, heading_deg=35))
+    dragged = [s for s in stats if s.contact and not s.new_stroke][12:-8]  # the steady drag
+    assert len(dragged) >= 10
+    assert min(s.substeps for s in dragged) >= math.ceil(step_mm * ppm / 2.5)
+
+
 def test_the_same_scene_renders_byte_identical_twice():
     model = bw.BrushModel.preset("small")
     poses = straight_stroke(model, start=(10, 20), length_mm=30, step_mm=1.5, press=0.25)
