@@ -8,7 +8,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "power.hpp"
+
 namespace brushwork {
+
+using power::dpow_half;
+using power::dpowm;
+using power::pow_half;
+using power::powm;
 
 namespace {
 
@@ -16,15 +23,6 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kPlasticDeadband = 1e-4;  // rad
 constexpr double kThetaEps = 1e-3;  // rad: the straight-skeleton trick (seed "Energy minimization problems")
-
-// |e|^m, its first derivative m |e|^(m-1) sgn(e) and second m (m-1) |e|^(m-2)
-inline double powm(double e, double m) { return m == 2.0 ? e * e : std::pow(std::abs(e), m); }
-inline double dpowm(double e, double m) {
-  return m == 2.0 ? 2.0 * e : m * std::pow(std::abs(e), m - 1.0) * (e < 0 ? -1.0 : 1.0);
-}
-inline double d2powm(double e, double m) {
-  return m == 2.0 ? 2.0 : m * (m - 1.0) * std::pow(std::abs(e), m - 2.0);
-}
 
 inline Mat3 rot_z(double a) {
   const double c = std::cos(a), s = std::sin(a);
@@ -323,9 +321,9 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
           const Vec3 rv = rl.x() * w_[i] + rl.y() * u_[i] + rl.z() * nrm_[i];
           const Vec3 v = t - t_prev - rv;
           const double vv = v.squaredNorm();
-          E += klb_[i] * (m == 2.0 ? vv : std::pow(vv, 0.5 * m));
+          E += klb_[i] * pow_half(vv, m);
           if (gx) {
-            const Vec3 dv = klb_[i] * (m == 2.0 ? 2.0 : m * std::pow(vv, 0.5 * m - 1.0)) * v;
+            const Vec3 dv = klb_[i] * dpow_half(vv, m) * v;
             // dt/de = (I - t t^T) / |e|
             const Vec3 ge = (dv - t * t.dot(dv)) / le;
             const Vec3 gep = -(dv - t_prev * t_prev.dot(dv)) / len_prev;

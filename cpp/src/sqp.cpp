@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "brushwork/brush.hpp"
+#include "power.hpp"
 
 namespace brushwork {
 
@@ -21,9 +22,6 @@ inline double neg_sum(const VecX& g, int m) {
   double s = 0.0;
   for (int i = 0; i < m; ++i) s += std::max(0.0, -g[i]);
   return s;
-}
-inline double d2pow(double e, double m) {
-  return m == 2.0 ? 2.0 : m * (m - 1.0) * std::pow(std::abs(e), m - 2.0);
 }
 
 // solve A x = b for the leading k x k block of A (symmetric positive definite, overwritten by its
@@ -61,11 +59,11 @@ bool cholesky_solve(Eigen::MatrixXd& A, const VecX& b, VecX& x, int k) {
 // the squared horizontal lever arm) so that the first steps of a dragged frame are sane.
 void Brush::fresh_hessian() {
   const double m = m_exp_, eta = eta_;
-  const double floor_p = d2pow(0.2, m);  // curvature of |e|^m at 0.2 (rad or mm)
+  const double floor_p = power::d2powm(0.2, m);  // curvature of |e|^m at 0.2 (rad or mm)
   VecX b(nx_);
   for (int j = 0; j < n_; ++j) {
-    b[2 * j] = kb_[j] * std::max(d2pow(x_[2 * j] - rest_[2 * j], m) +
-                                     eta * d2pow(x_[2 * j] - x_prev_[2 * j], m),
+    b[2 * j] = kb_[j] * std::max(power::d2powm(x_[2 * j] - rest_[2 * j], m) +
+                                     eta * power::d2powm(x_[2 * j] - x_prev_[2 * j], m),
                                  floor_p * (1.0 + eta));
     b[2 * j + 1] = std::max(kt_[j], 0.1 * kb_[j]) * floor_p * (1.0 + eta);
   }
