@@ -125,7 +125,7 @@ Brush::Brush(const BrushModel& model) : model_(model) {
   save_.x = save_.x_prev = save_.rest = VecX::Zero(nx_);
   save_.lambda = VecX::Zero(mmax_);
 
-  for (VecX* v : {&xf_trial_, &gf_, &gf_new_, &x_eval_, &tmp_full_}) v->resize(nx_);
+  for (VecX* v : {&xf_trial_, &gf_, &gf_new_, &x_eval_}) v->resize(nx_);
   for (VecX* v : {&za_, &zt_, &gact_, &gact_new_, &s_, &yv_, &r_, &Hr_, &Bs_, &tmp_, &h0_})
     v->resize(na);
   step_.resize(na);
@@ -187,6 +187,7 @@ void Brush::reset() {
 // Omega_i lies in the joint-bisecting plane, frame G_i = F_{i-1} Rz(phi_i) Ry(theta_i / 2); its
 // lateral line u_i = G_i Rz(psi_i) e_y starts perpendicular to both segments.
 void Brush::kinematics(const VecX& x) {
+  x_eval_ = x;
   O_[0] = root_;
   Mat3 prev = R0_;
   for (int j = 0; j < n_; ++j) {
@@ -247,12 +248,41 @@ void Brush::chain(VecX& gx) const {
   }
 }
 
+// One row of the constraint Jacobian, for a constraint that depends on node i alone (through
+// gO = d/dO_i, gu = d/du_i, gdp, gdm = d/da_i, d/db_i): chain() with every other node's
+// gradient zero.  The joints below node i do not move it, so their entries are zero; a joint
+// k < i turns O_i and u_i about its axis through O_k (base = O_i x gO + u_i x gu - O_k x gO),
+// the joint k = i turns u_i by half its bend (the bisecting plane) and all of its turn.  O(i).
+void Brush::constraint_row(int i, const Vec3& gO, const Vec3& gu, double gdp, double gdm,
+                           MatX& J, int row) const {
+  J.row(row).setZero();
+  const Vec3 lat = u_[i].cross(gu);
+  if (i < n_) {
+    J(row, 2 * i + 1) = aphi_[i].dot(lat);
+    J(row, 2 * i) = ath_[i].dot(0.5 * lat);
+  }
+  const Vec3 T = O_[i].cross(gO) + lat;
+  for (int k = i - 1; k >= 0; --k) {
+    const Vec3 base = T - O_[k].cross(gO);
+    J(row, 2 * k + 1) = aphi_[k].dot(base);
+    J(row, 2 * k) = ath_[k].dot(base);
+  }
+  if (i > 0) {
+    const int b = 2 * n_ + 3 * (i - 1);
+    J(row, b) = nrm_[i].dot(lat);
+    J(row, b + 1) = gdp * 2.0 * x_eval_[b + 1];
+    J(row, b + 2) = gdm * 2.0 * x_eval_[b + 2];
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // the incremental potential (seed "Energy Functions") and the constraints at the full vector x.
 // grad: (5n,) dE/dx; g: (m,) constraint values in mm; J: (m, 5n) their Jacobian.
 double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
-  x_eval_ = x;
-  kinematics(x);
+  // the accepted trial point comes back here with its derivatives asked for: its geometry is
+  // still the last kinematics() (root and root frame only change in begin_frame, which
+  // recomputes it)
+  if (x != x_eval_) kinematics(x);
   const double m = m_exp_;
   double E = 0.0;
   if (grad) {
@@ -390,30 +420,19 @@ double Brush::evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J) {
         const double h = std::sqrt(std::max(A * A * uz * uz + c * c * (1.0 - uz * uz), 1e-300));
         (*g)[row] = O_[i].z() - shrink_ * h;
         if (J) {
-          clear_node_grads();
-          gO_[i].z() = 1.0;
-          gu_[i].z() = -shrink_ * (A * A - c * c) * uz / h;
           const double gA = -shrink_ * A * uz * uz / h;
           const double gc = -shrink_ * c * (1.0 - uz * uz) / h;
           const double dc = -0.5 * c * c / (r0_[i] * r0_[i]);  // dc/da = dc/db
-          gdp_[i] = gc * dc + (plus ? gA : 0.0);
-          gdm_[i] = gc * dc + (plus ? 0.0 : gA);
-          tmp_full_.setZero();
-          chain(tmp_full_);
-          J->row(row) = tmp_full_.transpose();
+          constraint_row(i, Vec3(0.0, 0.0, 1.0), Vec3(0.0, 0.0, -shrink_ * (A * A - c * c) * uz / h),
+                         gc * dc + (plus ? gA : 0.0), gc * dc + (plus ? 0.0 : gA), *J, row);
         }
       }
     }
     if (pore_on_) {
       // the blocking plane: pore_dir . O_n <= offset, i.e. offset - pore_dir . O_n >= 0
       (*g)[row] = pore_offset_ - pore_dir_.dot(O_[n_].head<2>());
-      if (J) {
-        clear_node_grads();
-        gO_[n_] = Vec3(-pore_dir_.x(), -pore_dir_.y(), 0.0);
-        tmp_full_.setZero();
-        chain(tmp_full_);
-        J->row(row) = tmp_full_.transpose();
-      }
+      if (J)
+        constraint_row(n_, Vec3(-pore_dir_.x(), -pore_dir_.y(), 0.0), Vec3::Zero(), 0.0, 0.0, *J, row);
     }
   }
   return E;
@@ -494,7 +513,6 @@ void Brush::begin_frame(const Pose& pose) {
     }
   }
   if (kicked) kinematics(x_);
-  x_eval_ = x_;
   if (!have_prev_positions_) {
     for (int i = 0; i <= n_; ++i) {
       prev_pts_[3 * i] = O_[i];
@@ -576,7 +594,6 @@ void Brush::begin_frame(const Pose& pose) {
 
 void Brush::end_frame() {
   kinematics(x_);
-  x_eval_ = x_;
   for (int i = 0; i <= n_; ++i) {
     prev_pts_[3 * i] = O_[i];
     prev_pts_[3 * i + 1] = O_[i] + d_plus_[i] * u_[i];
@@ -641,7 +658,6 @@ double Brush::energy(const VecX& z) {
   scatter(z, full);
   const double E = evaluate(full, nullptr, nullptr, nullptr);
   kinematics(x_);
-  x_eval_ = x_;
   return E;
 }
 
@@ -652,7 +668,6 @@ VecX Brush::energy_gradient(const VecX& z) {
   evaluate(full, &gfull, nullptr, nullptr);
   gather(gfull, ga);
   kinematics(x_);
-  x_eval_ = x_;
   return ga;
 }
 
@@ -662,7 +677,6 @@ VecX Brush::constraints(const VecX& z) {
   scatter(z, full);
   evaluate(full, nullptr, &g, nullptr);
   kinematics(x_);
-  x_eval_ = x_;
   return g.head(m_);
 }
 
@@ -675,7 +689,6 @@ MatX Brush::constraint_jacobian(const VecX& z) {
   MatX Ja(m_, active_.size());
   for (size_t k = 0; k < active_.size(); ++k) Ja.col(k) = J.col(active_[k]).head(m_);
   kinematics(x_);
-  x_eval_ = x_;
   return Ja;
 }
 

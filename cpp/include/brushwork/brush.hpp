@@ -114,6 +114,9 @@ class Brush {
   double evaluate(const VecX& x, VecX* grad, VecX* g, MatX* J);
   // map node-level gradients (positions, lateral directions, lateral distances) to x
   void chain(VecX& gx) const;
+  // one Jacobian row of a constraint on node i alone (chain() with only node i's gradients)
+  void constraint_row(int i, const Vec3& gO, const Vec3& gu, double gdp, double gdm, MatX& J,
+                      int row) const;
   void clear_node_grads();
   void begin_frame(const Pose& pose);
   void end_frame();
@@ -171,7 +174,7 @@ class Brush {
   VecX gdp_, gdm_;
 
   // solver workspace (sized once; nothing is allocated inside solve())
-  VecX x_eval_, tmp_full_, step_;  // x at the last kinematics(), (5n) scratch, SQP step (na)
+  VecX x_eval_, step_;  // x at the last kinematics() (5n), SQP step (na)
   VecX xf_trial_, za_, zt_, gf_, gf_new_, gact_, gact_new_, g_, g_new_, gtrial_;
   VecX s_, yv_, r_, Hr_, Bs_, tmp_, h0_;
   MatX J_, Jact_, Jact_new_, HJt_, M_;
