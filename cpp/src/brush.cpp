@@ -24,17 +24,17 @@ constexpr double kDeg = kPi / 180.0;
 constexpr double kPlasticDeadband = 1e-4;  // rad
 constexpr double kThetaEps = 1e-3;  // rad: the straight-skeleton trick (seed "Energy minimization problems")
 
-inline Mat3 rot_z(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  Mat3 r;
-  r << c, -s, 0, s, c, 0, 0, 0, 1;
-  return r;
+// A Rz(a) and A Ry(a) for a frame A, with c = cos a, s = sin a: a rotation about a frame axis
+// mixes the other two columns and keeps that one
+inline void turn_z(const Mat3& A, double c, double s, Mat3& out) {
+  out.col(0) = c * A.col(0) + s * A.col(1);
+  out.col(1) = c * A.col(1) - s * A.col(0);
+  out.col(2) = A.col(2);
 }
-inline Mat3 rot_y(double a) {
-  const double c = std::cos(a), s = std::sin(a);
-  Mat3 r;
-  r << c, 0, s, 0, 1, 0, -s, 0, c;
-  return r;
+inline void turn_y(const Mat3& A, double c, double s, Mat3& out) {
+  out.col(0) = c * A.col(0) - s * A.col(2);
+  out.col(1) = A.col(1);
+  out.col(2) = s * A.col(0) + c * A.col(2);
 }
 
 std::string num(double v) {
@@ -189,21 +189,26 @@ void Brush::reset() {
 void Brush::kinematics(const VecX& x) {
   x_eval_ = x;
   O_[0] = root_;
-  Mat3 prev = R0_;
   for (int j = 0; j < n_; ++j) {
+    const Mat3& prev = j == 0 ? R0_ : F_[j - 1];
     aphi_[j] = prev.col(2);
-    Q_[j] = prev * rot_z(x[2 * j + 1]);
-    F_[j] = Q_[j] * rot_y(x[2 * j]);
+    turn_z(prev, std::cos(x[2 * j + 1]), std::sin(x[2 * j + 1]), Q_[j]);
+    turn_y(Q_[j], std::cos(x[2 * j]), std::sin(x[2 * j]), F_[j]);
     ath_[j] = Q_[j].col(1);
     O_[j + 1] = O_[j] + len_[j] * F_[j].col(2);
-    prev = F_[j];
   }
+  Mat3 G;
   for (int i = 0; i <= n_; ++i) {
-    const Mat3 G = (i < n_) ? Mat3(Q_[i] * rot_y(0.5 * x[2 * i])) : F_[n_ - 1];
-    const double psi = (i == 0) ? 0.0 : x[2 * n_ + 3 * (i - 1)];
-    const double cp = std::cos(psi), sp = std::sin(psi);
-    u_[i] = G * Vec3(-sp, cp, 0.0);
-    w_[i] = G * Vec3(cp, sp, 0.0);
+    if (i < n_) turn_y(Q_[i], std::cos(0.5 * x[2 * i]), std::sin(0.5 * x[2 * i]), G);
+    else G = F_[n_ - 1];
+    double cp = 1.0, sp = 0.0;  // psi_0 = 0: the root's lateral line is G_0 e_y
+    if (i > 0) {
+      const double psi = x[2 * n_ + 3 * (i - 1)];
+      cp = std::cos(psi);
+      sp = std::sin(psi);
+    }
+    u_[i] = cp * G.col(1) - sp * G.col(0);
+    w_[i] = cp * G.col(0) + sp * G.col(1);
     nrm_[i] = G.col(2);
     // lateral distances a = r_i - r_lat + delta^2 (so that the unstretched section is the
     // circle of radius r_i) and the minor radius from area conservation c = r^2 / ((a+b)/2 + r_lat)
