@@ -320,12 +320,25 @@ void Brush::solve() {
   bool fresh_this_iter = !model_.warm_hessian;
   int q = 0;
   while (!stats_.converged && q < qmax) {
-    // --- QP through its dual: M = J H J^T, q = g - J H grad_f
-    HJt_.leftCols(m).noalias() = H_ * Jact_.topRows(m).transpose();
-    M_.topLeftCorner(m, m).noalias() = Jact_.topRows(m) * HJt_.leftCols(m);
+    // --- QP through its dual: M = J H J^T, q = g - J H grad_f.  A few dozen variables and
+    // constraints: plain loops, no matrix-product kernels (their packing cost more than the
+    // arithmetic).  Row i of J is sparse (the joints above node i and node i's own lateral
+    // variables), so H J^T's column i gathers only those columns of H; M is symmetric, its
+    // lower half is computed and mirrored.
+    for (int i = 0; i < m; ++i) {
+      auto hj = HJt_.col(i);
+      hj.setZero();
+      for (int k = 0; k < na; ++k)
+        if (Jact_(i, k) != 0.0) hj += Jact_(i, k) * H_.col(k);
+    }
+    for (int i = 0; i < m; ++i)
+      for (int c = 0; c <= i; ++c) {
+        double v = 0.0;
+        for (int k = 0; k < na; ++k) v += Jact_(i, k) * HJt_(k, c);
+        M_(i, c) = M_(c, i) = v;
+      }
     tmp_.noalias() = H_ * gact_;  // H grad_f
-    q_.head(m) = g_.head(m);
-    q_.head(m).noalias() -= Jact_.topRows(m) * tmp_;
+    for (int i = 0; i < m; ++i) q_[i] = g_[i] - Jact_.row(i).dot(tmp_);
     int qp_it = solve_box_qp(m, nu_);
     // an elastic (infeasible-looking) linearisation: raise nu and solve again
     for (int tries = 0; tries < 4 && m > 0 && qp_it >= 0 && lam_.head(m).maxCoeff() >= 0.999 * nu_ &&
@@ -437,10 +450,15 @@ void Brush::solve() {
     // damped BFGS (Powell) on B = H^-1 with s = alpha p, y = grad L(x+) - grad L(x):
     // B s = alpha (J^T lambda - grad_f) by the QP's stationarity, so B is never formed
     s_ = alpha * step_;
-    yv_ = gact_new_ - gact_;
-    if (m > 0) yv_.noalias() -= (Jact_new_.topRows(m) - Jact_.topRows(m)).transpose() * lam_.head(m);
-    Bs_ = -alpha * gact_;
-    if (m > 0) Bs_.noalias() += alpha * (Jact_.topRows(m).transpose() * lam_.head(m));
+    for (int k = 0; k < na; ++k) {
+      double jl_new = 0.0, jl = 0.0;  // (J^T lambda)_k at the new and the old point
+      for (int i = 0; i < m; ++i) {
+        jl_new += Jact_new_(i, k) * lam_[i];
+        jl += Jact_(i, k) * lam_[i];
+      }
+      yv_[k] = (gact_new_[k] - gact_[k]) - (jl_new - jl);
+      Bs_[k] = -alpha * gact_[k] + alpha * jl;
+    }
     const double sBs = s_.dot(Bs_), sy = s_.dot(yv_);
     if (sBs > 0.0 && std::isfinite(sy)) {
       const double th = sy >= 0.2 * sBs ? 1.0 : 0.8 * sBs / (sBs - sy);
@@ -448,11 +466,16 @@ void Brush::solve() {
       const double rs = r_.dot(s_);
       if (rs > 1e-16 * r_.norm() * s_.norm()) {
         // H+ = (I - rho s r^T) H (I - rho r s^T) + rho s s^T
+        //    = H - rho (s (Hr)^T + Hr s^T) + (rho^2 r^T H r + rho) s s^T, in one pass over
+        //    the lower half, mirrored: H stays exactly symmetric
         const double rho = 1.0 / rs;
         Hr_.noalias() = H_ * r_;
         const double rHr = r_.dot(Hr_);
-        H_.noalias() -= rho * (s_ * Hr_.transpose() + Hr_ * s_.transpose());
-        H_.noalias() += (rho * rho * rHr + rho) * (s_ * s_.transpose());
+        const double css = rho * rho * rHr + rho;
+        for (int c = 0; c < na; ++c)
+          for (int k = c; k < na; ++k)
+            H_(k, c) = H_(c, k) =
+                H_(k, c) - rho * (s_[k] * Hr_[c] + Hr_[k] * s_[c]) + css * (s_[k] * s_[c]);
       }
     }
     bool bad = false;
@@ -462,9 +485,9 @@ void Brush::solve() {
       ++stats_.hessian_resets;
     }
 
-    gact_ = gact_new_;
-    g_.head(m) = g_new_.head(m);
-    Jact_.topRows(m) = Jact_new_.topRows(m);
+    gact_.swap(gact_new_);
+    g_.swap(g_new_);
+    Jact_.swap(Jact_new_);
     res = kkt(gact_, g_, Jact_, lam_, m);
     stats_.kkt_trace.push_back(res);
     if (res <= tol) {
