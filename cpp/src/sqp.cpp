@@ -223,7 +223,7 @@ StepStats Brush::step(const Pose& pose) {
   // a touching brush whose root jumps more than L/4 in one frame is also split: q_max
   // iterations cannot carry a bent tuft that far, and the unconverged state floats above the
   // paper (a drag of 20 belly radii a frame lost contact and broke the stroke)
-  const double step_travel = 0.25 * model_.tuft_length;
+  const double step_travel = 0.125 * model_.tuft_length;
   const double travel = (pose.position - pose_.position).norm();
   const int travel_steps = (have_prev_positions_ && stats_.contacts > 0 && travel > step_travel)
                                ? std::min(32, static_cast<int>(std::ceil(travel / step_travel)))
@@ -303,7 +303,12 @@ void Brush::solve() {
   double f = evaluate(x_, &gf_, &g_, &J_);
   gather(gf_, gact_);
   for (size_t k = 0; k < active_.size(); ++k) Jact_.col(k).head(m) = J_.col(active_[k]).head(m);
-  if (!model_.warm_hessian || !have_hessian_) fresh_hessian();
+  // the carried Hessian holds the curvature of the last frame's contacts (friction is ~100x
+  // stiffer than the bend springs when stuck); when the brush lifts off the paper it is wrong
+  // everywhere, so start afresh
+  const bool lift_off = contacts_ == 0 && hessian_contacts_ > 0;
+  if (!model_.warm_hessian || !have_hessian_ || lift_off) fresh_hessian();
+  hessian_contacts_ = contacts_;
   for (int i = 0; i < m; ++i) lam_[i] = std::max(lambda_[i], 0.0);
   gather(x_, za_);
 

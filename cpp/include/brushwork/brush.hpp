@@ -163,6 +163,7 @@ class Brush {
   bool pore_on_prev_ = false;            // the plane was in last frame's problem
   Eigen::Vector2d pore_anchor_ = Eigen::Vector2d::Zero();  // a point of the plane, mm
   int contacts_ = 0;
+  int hessian_contacts_ = -1;  // contacts_ of the frame the carried Hessian last solved
 
   // kinematics workspace (sized once)
   std::vector<Vec3> O_, u_, w_, nrm_, aphi_, ath_;
