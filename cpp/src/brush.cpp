@@ -164,6 +164,8 @@ void Brush::reset() {
   x_prev_ = x_;
   rest_ = VecX::Zero(nx_);
   have_hessian_ = false;
+  have_h_touching_ = false;
+  hessian_contacts_ = -1;
   touched_since_reset_ = false;
   have_prev_positions_ = false;
   pore_on_prev_ = false;

@@ -303,11 +303,22 @@ void Brush::solve() {
   double f = evaluate(x_, &gf_, &g_, &J_);
   gather(gf_, gact_);
   for (size_t k = 0; k < active_.size(); ++k) Jact_.col(k).head(m) = J_.col(active_[k]).head(m);
-  // the carried Hessian holds the curvature of the last frame's contacts (friction is ~100x
-  // stiffer than the bend springs when stuck); when the brush lifts off the paper it is wrong
-  // everywhere, so start afresh
-  const bool lift_off = contacts_ == 0 && hessian_contacts_ > 0;
-  if (!model_.warm_hessian || !have_hessian_ || lift_off) fresh_hessian();
+  // one carried Hessian per regime, touching and in the air.  The touching one holds the stuck
+  // contacts' friction curvature (~100x the bend springs'), which free air lacks: carried into
+  // a lift it let a loop's tip segment swing past -4 rad over capped frames and come down on
+  // the paper again.  So a lift-off keeps it aside and starts the air afresh, and a touch-down
+  // takes it back (the air's matrix knows nothing of friction either)
+  if (model_.warm_hessian && have_hessian_ && hessian_contacts_ >= 0 &&
+      (contacts_ > 0) != (hessian_contacts_ > 0)) {
+    if (hessian_contacts_ > 0) {
+      H_touching_ = H_;
+      have_h_touching_ = true;
+      fresh_hessian();
+    } else if (have_h_touching_) {
+      H_ = H_touching_;
+    }
+  }
+  if (!model_.warm_hessian || !have_hessian_) fresh_hessian();
   hessian_contacts_ = contacts_;
   for (int i = 0; i < m; ++i) lam_[i] = std::max(lambda_[i], 0.0);
   gather(x_, za_);

@@ -164,6 +164,8 @@ class Brush {
   Eigen::Vector2d pore_anchor_ = Eigen::Vector2d::Zero();  // a point of the plane, mm
   int contacts_ = 0;
   int hessian_contacts_ = -1;  // contacts_ of the frame the carried Hessian last solved
+  MatX H_touching_;            // (na, na) H_ as the brush last left the paper
+  bool have_h_touching_ = false;
 
   // kinematics workspace (sized once)
   std::vector<Vec3> O_, u_, w_, nrm_, aphi_, ath_;
