@@ -198,7 +198,10 @@ def test_blended_footprints_are_close_enough_to_leave_no_saw_teeth():
     paper = bw.Paper(90, 60, ppm)
     stats = draw(paper, bw.Brush(model), straight_stroke(model, start=(15, 15), length_mm=50,
                                                          step_mm=step_mm, press=0.3, heading_deg=35))
-    dragged = [s for s in stats if s.contact and not s.new_stroke][12:-8]  # the steady drag
+    # the steady drag: the dozen deposits before the lift (the first frames of a drag this fast
+    # follow the press's transient, where the footprint may shrink to a thin neck for a frame
+    # or three, depending on rounding: less travel there, fewer blends)
+    dragged = [s for s in stats if s.contact and not s.new_stroke][-20:-8]
     assert len(dragged) >= 10
     assert min(s.substeps for s in dragged) >= math.ceil(step_mm * ppm / 2.5)
 
