@@ -897,7 +897,8 @@ def run(quick: bool = False, repeats: Optional[int] = None, peers: bool = True,
     if INK_MASK_IOU is not None and not quick:
         say("ink-mask IoU of a written character per setting (the reference render takes a minute)")
         ink_iou = INK_MASK_IOU()
-        by_label = {st.label: st for st in setting_list}
+        # (the default's row carries the spelled-out label, default_label(), not its own)
+        by_label = {(default_label() if st.default else st.label): st for st in setting_list}
         for row in rows:
             st = by_label.get(row["setting"]) if row["solver"] == OURS else None
             if st is not None and st.family in ("q_max", "tolerance", "hessian") and st.rate == 1.0:
