@@ -209,6 +209,11 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["worst_iou"] <= res["p10_iou"] <= res["mean_iou"] <= 1.0
     assert res["worst"][0][1] == res["worst_iou"]
     assert 0.3 < res["round_pen_mean_iou"] < 1.0          # the baseline, scored in the same run
+    # gaps and stray dots: the totals are the rows' sums
+    assert res["extra_pieces"] == sum(r["extra_pieces"] for r in res["rows"])
+    assert res["specks"] == sum(r["specks"] for r in res["rows"])
+    assert set(res["chars_with_extra_pieces"]) == {r["char"] for r in res["rows"] if r["extra_pieces"]}
+    assert "gaps and stray dots" in bench_glyphs.table(res)
     assert cv2.imread(res["sheet"]) is not None
     with pytest.raises(ValueError, match="no stroke outlines"):
         bench_glyphs.run("glyphs:" + str(Path(glyph_sources.bundled_dir())), size=32, count=1, progress=False)

@@ -322,3 +322,23 @@ def test_stroke_and_glyph_check_their_arrays():
     xy = np.array([[10.0, 20.0], [109, 0]])
     np.testing.assert_allclose(g.from_em(g.to_em(xy)), xy)
     np.testing.assert_allclose(g.to_em(xy)[1], [1, 1])
+
+
+def test_pieces_counts_a_broken_stroke_and_a_stray_dot():
+    from brushwork.glyphs.score import pieces
+
+    ref = np.zeros((512, 512), bool)
+    ref[100:120, 50:450] = True                       # one horizontal stroke
+    assert pieces(ref, ref) == (0, 0)
+    broken = ref.copy()
+    broken[:, 250:254] = False                        # a gap across it: two pieces
+    assert pieces(broken, ref) == (1, 0)
+    dotted = ref.copy()
+    dotted[300:304, 300:304] = True                   # a stray 16 px dot: a speck too
+    assert pieces(dotted, ref) == (1, 1)
+    dust = ref.copy()
+    dust[300, 300] = True                             # one stray pixel: fringe, not counted
+    assert pieces(dust, ref) == (0, 0)
+    assert pieces(np.zeros_like(ref), ref) == (0, 0)  # no ink: nothing extra
+    with pytest.raises(ValueError, match="shapes differ"):
+        pieces(ref[:10], ref)

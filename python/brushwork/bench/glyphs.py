@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import has_outlines, iou, outline_mask
+from ..glyphs.score import has_outlines, iou, outline_mask, pieces
 from ..motion import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -70,7 +70,7 @@ def _score(task: tuple) -> tuple:
         ref = outline_mask(glyph, _JOB["size"])
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return char, (iou(ink, ref), pen), time.perf_counter() - t0, small, None
+        return char, (iou(ink, ref), pen, *pieces(ink, ref)), time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
 
@@ -97,7 +97,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
                                                               (style, size, seed)):
             if err is None:
-                rows[char], overlays[char] = (score[0], secs, score[1]), small
+                rows[char], overlays[char] = (score[0], secs, score[1], score[2], score[3]), small
             else:
                 failed.append((char, err))
             if bar is not None:
@@ -119,8 +119,12 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         "round_pen_mean_iou": float(np.mean([rows[c][2] for c in order])) if order else None,
         "round_pen_width_em": ROUND_PEN_EM,
         "chars_per_s": len(order) / wall if wall > 0 else None,
+        # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
+        "extra_pieces": int(sum(rows[c][3] for c in order)),
+        "chars_with_extra_pieces": [c for c in order if rows[c][3] > 0],
+        "specks": int(sum(rows[c][4] for c in order)),
         "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "round_pen_iou": rows[c][2],
-                  "seconds": rows[c][1]}
+                  "extra_pieces": rows[c][3], "specks": rows[c][4], "seconds": rows[c][1]}
                  for c in order],
     }
     if sheet:
@@ -144,6 +148,9 @@ def table(result: dict) -> str:
              f"| {result['round_pen_mean_iou']:.3f} |",
              "",
              "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
+             f"gaps and stray dots: {result['extra_pieces']} ink pieces more than the outlines have, in "
+             f"{len(result['chars_with_extra_pieces'])} of {result['characters']} characters "
+             f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks",
              f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
     if result.get("sheet"):
         lines.append(f"contact sheet: {result['sheet']}")

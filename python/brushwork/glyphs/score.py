@@ -43,3 +43,31 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
         raise ValueError(f"mask shapes differ: {a.shape} vs {b.shape}")
     union = np.logical_or(a, b).sum()
     return 1.0 if union == 0 else float(np.logical_and(a, b).sum() / union)
+
+
+# pieces of ink, as fractions of the em square (at 512 px: 4 and 40 px).  Under DUST_EM2 a piece
+# is the anti-aliased fringe of an edge crossing the mask threshold, invisible at any size, and
+# is not counted; under SPECK_EM2 (a dot of ~7 px at 512) it is a speck: no stroke of a Kai
+# character is that small, so it is ink the brush left where it should not (a tip that touched
+# down again, a neck that broke)
+DUST_EM2 = 4.0 / 512 ** 2
+SPECK_EM2 = 40.0 / 512 ** 2
+
+
+def pieces(ink: np.ndarray, ref: np.ndarray) -> tuple[int, int]:
+    """Gaps and stray dots of a written glyph: (extra, specks).
+
+    ink, ref: (size, size) bool masks of one shape (the written ink, the reference outlines).
+    extra: how many more connected pieces (8-connected, dust left out) the ink has than the
+    outlines, 0 when it has as many or fewer: a broken stroke or a stray dot adds one, and so
+    does a stroke the font joins to another that the brush left apart. specks: ink pieces of
+    DUST_EM2 to SPECK_EM2 of the em square.
+    """
+    if ink.shape != ref.shape:
+        raise ValueError(f"mask shapes differ: {ink.shape} vs {ref.shape}")
+    n_ink, _, stats, _ = cv2.connectedComponentsWithStats(ink.astype(np.uint8), connectivity=8)
+    n_ref = cv2.connectedComponents(ref.astype(np.uint8), connectivity=8)[0]
+    area = stats[1:, cv2.CC_STAT_AREA] / ink.size                 # (n_ink - 1,) em^2
+    kept = area >= DUST_EM2
+    specks = int((kept & (area < SPECK_EM2)).sum())
+    return max(0, int(kept.sum()) - (n_ref - 1)), specks
