@@ -214,6 +214,10 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["specks"] == sum(r["specks"] for r in res["rows"])
     assert set(res["chars_with_extra_pieces"]) == {r["char"] for r in res["rows"] if r["extra_pieces"]}
     assert "gaps and stray dots" in bench_glyphs.table(res)
+    parts = res["error_by_part"]
+    assert set(parts) == {"head", "body", "end"}
+    assert sum(p["outline"] for p in parts.values()) == pytest.approx(1.0)
+    assert all(0.0 <= p["missed"] <= p["outline"] for p in parts.values())
     assert cv2.imread(res["sheet"]) is not None
     with pytest.raises(ValueError, match="no stroke outlines"):
         bench_glyphs.run("glyphs:" + str(Path(glyph_sources.bundled_dir())), size=32, count=1, progress=False)
@@ -266,3 +270,29 @@ def test_batch_stopped_by_sigterm_keeps_whole_files_and_resumes(tmp_path):
     cmd[cmd.index("2048")] = "64"                     # the rest, quickly: finished files are skipped
     rerun = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=120)
     assert rerun.returncode == 0 and f"{len(done)} already there" in rerun.stdout
+
+
+def test_error_by_part_puts_each_miss_on_its_stroke_part():
+    from brushwork.glyphs.score import error_by_part, stroke_masks
+
+    glyph = next(iter(load_source(MMAH, None).values()))
+    size = 256
+    ref = outline_mask(glyph, size)
+    exact = error_by_part(glyph, ref)
+    assert sum(exact[p][0] for p in ("head", "body", "end")) == exact["outline"] == ref.sum()
+    assert all(exact[p][1] == exact[p][2] == 0 for p in ("head", "body", "end"))
+    # no ink: everything missed, part by part
+    none = error_by_part(glyph, np.zeros_like(ref))
+    assert all(none[p][1] == exact[p][0] and none[p][2] == 0 for p in ("head", "body", "end"))
+    # a blot past the end of the first stroke's median is ink outside, at its end
+    u, v = np.asarray(glyph.strokes[0].points[-1], float)
+    d = np.asarray(glyph.strokes[0].points[-1], float) - np.asarray(glyph.strokes[0].points[-2], float)
+    d /= np.linalg.norm(d)
+    x, y = (u + 0.03 * d[0]) * size, (1.0 - (v + 0.03 * d[1])) * size
+    blot = ref.copy()
+    cv2.circle(blot.view(np.uint8), (int(x), int(y)), 4, 1, -1)
+    added = int(blot.sum() - ref.sum())
+    assert added > 0
+    got = error_by_part(glyph, blot)
+    assert got["end"][2] == added and got["head"][2] == got["body"][2] == 0
+    assert len(stroke_masks(glyph, size)) == len(glyph.strokes)

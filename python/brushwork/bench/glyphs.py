@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import has_outlines, iou, outline_mask, pieces
+from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, outline_mask, pieces
 from ..motion import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -70,7 +70,8 @@ def _score(task: tuple) -> tuple:
         ref = outline_mask(glyph, _JOB["size"])
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return char, (iou(ink, ref), pen, *pieces(ink, ref)), time.perf_counter() - t0, small, None
+        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink)),
+                time.perf_counter() - t0, small, None)
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
 
@@ -97,7 +98,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
                                                               (style, size, seed)):
             if err is None:
-                rows[char], overlays[char] = (score[0], secs, score[1], score[2], score[3]), small
+                rows[char], overlays[char] = (score[0], secs, score[1], score[2], score[3], score[4]), small
             else:
                 failed.append((char, err))
             if bar is not None:
@@ -123,6 +124,9 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         "extra_pieces": int(sum(rows[c][3] for c in order)),
         "chars_with_extra_pieces": [c for c in order if rows[c][3] > 0],
         "specks": int(sum(rows[c][4] for c in order)),
+        # where the ink misses: per part of a stroke, missed and outside pixels as fractions of all
+        # the outlines' pixels (glyphs.score.error_by_part)
+        "error_by_part": _error_by_part([rows[c][5] for c in order]),
         "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "round_pen_iou": rows[c][2],
                   "extra_pieces": rows[c][3], "specks": rows[c][4], "seconds": rows[c][1]}
                  for c in order],
@@ -133,6 +137,14 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         cells = [Cell(c, overlays.get(c), f"IoU {rows[c][0]:.3f}" if c in rows else "failed") for c in glyphs]
         result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
     return result
+
+
+def _error_by_part(per_char: list) -> dict:
+    """Pool error_by_part over characters: {part: {"outline", "missed", "outside"}} as fractions
+    of all outline pixels."""
+    total = max(sum(e["outline"] for e in per_char), 1)
+    return {p: dict(zip(("outline", "missed", "outside"), (sum(e[p][k] for e in per_char) / total for k in range(3))))
+            for p in PARTS}
 
 
 def table(result: dict) -> str:
@@ -148,6 +160,9 @@ def table(result: dict) -> str:
              f"| {result['round_pen_mean_iou']:.3f} |",
              "",
              "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
+             "where the ink misses (fractions of all outline pixels; head and end: first and last 15% of "
+             "each stroke's median): " + "  ".join(f"{p} {e['outline']:.2f} of the outlines, missed {e['missed']:.3f}, "
+                                                  f"outside {e['outside']:.3f};" for p, e in result["error_by_part"].items()),
              f"gaps and stray dots: {result['extra_pieces']} ink pieces more than the outlines have, in "
              f"{len(result['chars_with_extra_pieces'])} of {result['characters']} characters "
              f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks",

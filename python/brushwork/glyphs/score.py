@@ -19,22 +19,78 @@ def has_outlines(glyph: Glyph) -> bool:
     return bool(glyph.strokes) and all(s.outline is not None for s in glyph.strokes)
 
 
-def outline_mask(glyph: Glyph, size: int) -> np.ndarray:
-    """(size, size) bool, row 0 at the top: the union of the strokes' filled outlines, the em box
+def stroke_masks(glyph: Glyph, size: int) -> list[np.ndarray]:
+    """One (size, size) bool mask per stroke, row 0 at the top: its filled outline, the em box
     mapped onto the whole image."""
     if not has_outlines(glyph):
         raise GlyphError(glyph.source or glyph.char, "no stroke outlines to score against "
                          "(only Make Me a Hanzi keeps them)")
-    mask = np.zeros((size, size), np.uint8)
+    masks = []
     for stroke in glyph.strokes:
+        mask = np.zeros((size, size), np.uint8)
         polys = []
         for poly in parse_svg_path(stroke.outline):
             uv = glyph.to_em(poly)                                    # (k, 2) em, y up
             px = np.stack([uv[:, 0] * size, (1.0 - uv[:, 1]) * size], axis=1)
             polys.append(np.round(px * (1 << _SHIFT)).astype(np.int32))
-        # each stroke on its own: an even-odd fill of the union would punch holes at overlaps
         cv2.fillPoly(mask, polys, 1, lineType=cv2.LINE_8, shift=_SHIFT)
-    return mask.astype(bool)
+        masks.append(mask.astype(bool))
+    return masks
+
+
+def outline_mask(glyph: Glyph, size: int) -> np.ndarray:
+    """(size, size) bool, row 0 at the top: the union of the strokes' filled outlines, the em box
+    mapped onto the whole image (each stroke filled on its own: an even-odd fill of the union
+    would punch holes where strokes overlap)."""
+    return np.any(stroke_masks(glyph, size), axis=0)
+
+
+# the parts of a stroke, by arc length along its median: head, body, end
+PARTS = ("head", "body", "end")
+HEAD_END_FRACTION = 0.15
+
+
+def error_by_part(glyph: Glyph, ink: np.ndarray) -> dict:
+    """Where a written glyph misses its outlines: pixel counts per part of a stroke.
+
+    ink: (size, size) bool, the written ink (row 0 at the top). Every pixel of the ink or the
+    outlines goes to the stroke whose outline is nearest, and to the part of that stroke whose
+    median it projects on: the first HEAD_END_FRACTION of the arc length (head), the last (end),
+    or between (body); pixels beyond a median's ends go to its head or end. Returns {part:
+    (outline px, missed px, outside px)} and "outline" (all outline px).
+    """
+    size = ink.shape[0]
+    masks = stroke_masks(glyph, size)
+    ref = np.any(masks, axis=0)
+    # nearest stroke outline for every pixel: (size, size) index
+    dist = np.stack([cv2.distanceTransform((~m).astype(np.uint8), cv2.DIST_L2, 3) for m in masks])
+    nearest = dist.argmin(axis=0)
+    out = {p: np.zeros(3, np.int64) for p in PARTS}
+    for k, stroke in enumerate(glyph.strokes):
+        ys, xs = np.nonzero((nearest == k) & (ref | ink))
+        uv = np.asarray(stroke.points, dtype=float)                   # (n, 2) em, y up
+        med = np.stack([uv[:, 0] * size, (1.0 - uv[:, 1]) * size], axis=1)
+        seg = np.diff(med, axis=0)                                    # (n-1, 2) px
+        arc = np.r_[0.0, np.cumsum(np.hypot(seg[:, 0], seg[:, 1]))]   # (n,) px
+        if len(xs) == 0 or arc[-1] <= 0.0:
+            continue
+        q = np.stack([xs, ys], axis=1).astype(float)                  # (k, 2) px
+        best, t_arc = np.full(len(q), np.inf), np.zeros(len(q))
+        for i in range(len(seg)):
+            ll = float(seg[i] @ seg[i])
+            if ll <= 0.0:
+                continue
+            t = np.clip((q - med[i]) @ seg[i] / ll, 0.0, 1.0)
+            d = np.hypot(*(q - med[i] - t[:, None] * seg[i]).T)
+            closer = d < best
+            best[closer], t_arc[closer] = d[closer], (arc[i] + t * np.sqrt(ll))[closer]
+        frac = t_arc / arc[-1]
+        part = np.where(frac < HEAD_END_FRACTION, 0, np.where(frac > 1.0 - HEAD_END_FRACTION, 2, 1))
+        r, i_ = ref[ys, xs], ink[ys, xs]
+        for j, name in enumerate(PARTS):
+            sel = part == j
+            out[name] += [int((r & sel).sum()), int((r & ~i_ & sel).sum()), int((i_ & ~r & sel).sum())]
+    return {**{p: tuple(int(v) for v in out[p]) for p in PARTS}, "outline": int(ref.sum())}
 
 
 def iou(a: np.ndarray, b: np.ndarray) -> float:
