@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, outline_mask, pieces
+from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, pieces, stroke_masks
 from ..motion import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -67,10 +67,11 @@ def _score(task: tuple) -> tuple:
     try:
         paper = bt.text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"])
         ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
-        ref = outline_mask(glyph, _JOB["size"])
+        masks = stroke_masks(glyph, _JOB["size"])                  # one (size, size) bool per stroke
+        ref = np.any(masks, axis=0)
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink)),
+        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks)),
                 time.perf_counter() - t0, small, None)
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"

@@ -50,17 +50,18 @@ PARTS = ("head", "body", "end")
 HEAD_END_FRACTION = 0.15
 
 
-def error_by_part(glyph: Glyph, ink: np.ndarray) -> dict:
+def error_by_part(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray] | None = None) -> dict:
     """Where a written glyph misses its outlines: pixel counts per part of a stroke.
 
     ink: (size, size) bool, the written ink (row 0 at the top). Every pixel of the ink or the
     outlines goes to the stroke whose outline is nearest, and to the part of that stroke whose
     median it projects on: the first HEAD_END_FRACTION of the arc length (head), the last (end),
     or between (body); pixels beyond a median's ends go to its head or end. Returns {part:
-    (outline px, missed px, outside px)} and "outline" (all outline px).
+    (outline px, missed px, outside px)} and "outline" (all outline px). masks: the glyph's
+    stroke_masks at this size, when the caller has them already.
     """
     size = ink.shape[0]
-    masks = stroke_masks(glyph, size)
+    masks = stroke_masks(glyph, size) if masks is None else masks
     ref = np.any(masks, axis=0)
     # nearest stroke outline for every pixel: (size, size) index
     dist = np.stack([cv2.distanceTransform((~m).astype(np.uint8), cv2.DIST_L2, 3) for m in masks])
