@@ -13,7 +13,7 @@ from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import GlyphError, load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import iou, outline_mask
-from brushwork.motion import Style, render_glyph
+from brushwork.motion import Style, Writer, render_glyph
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -213,6 +213,7 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["extra_pieces"] == sum(r["extra_pieces"] for r in res["rows"])
     assert res["specks"] == sum(r["specks"] for r in res["rows"])
     assert set(res["chars_with_extra_pieces"]) == {r["char"] for r in res["rows"] if r["extra_pieces"]}
+    assert res["broken_strokes"] == sum(r["broken_strokes"] for r in res["rows"])
     assert "gaps and stray dots" in bench_glyphs.table(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
@@ -296,3 +297,66 @@ def test_error_by_part_puts_each_miss_on_its_stroke_part():
     got = error_by_part(glyph, blot)
     assert got["end"][2] == added and got["head"][2] == got["body"][2] == 0
     assert len(stroke_masks(glyph, size)) == len(glyph.strokes)
+
+
+class _FloatingOnce:
+    """A brush stand-in whose first step stops at q_max floating above the paper, the second
+    touches (what the core does on a capped frame: the next one carries on from there)."""
+
+    def __init__(self, converged_first=False):
+        self.steps = 0
+        self.converged_first = converged_first
+
+    def step(self, pose):
+        from types import SimpleNamespace
+
+        self.steps += 1
+        first = self.steps == 1 and not self.converged_first
+        return SimpleNamespace(converged=not first, status="iteration cap" if first else "converged")
+
+    def footprint(self):
+        return [] if self.steps == 1 else [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]]
+
+
+class _Paper:
+    def deposit(self, brush):
+        from types import SimpleNamespace
+
+        return SimpleNamespace(contact=bool(brush.footprint()), new_stroke=False)
+
+
+@pytest.mark.parametrize("touching, press, converged_first, steps", [
+    (True, 0.2, False, 2),     # pressed, capped and floating: the pose is held a frame
+    (True, -0.1, False, 1),    # above first contact: floating is right
+    (False, 0.2, False, 1),    # not in a stroke yet (coming down)
+    (True, 0.2, True, 1),      # converged: whatever it shows is the brush's answer
+])
+def test_a_pressed_brush_left_floating_by_the_cap_is_held_a_frame(touching, press, converged_first, steps):
+    writer = Writer(_Paper(), Style.load("kai"))
+    writer.brush = _FloatingOnce(converged_first)
+    writer.touching = touching
+    writer._step(np.array([10.0, 10.0]), 0.0, press, 15.0)
+    assert writer.brush.steps == steps
+    assert writer.frames == steps
+
+
+def test_the_writer_counts_a_stroke_broken_by_a_lift():
+    from types import SimpleNamespace
+
+    class Replay:                    # deposits: down, off the paper, down again (a break), then a new stroke
+        def __init__(self):
+            self.script = iter([(True, True), (False, False), (True, True), (True, True)])
+
+        def deposit(self, brush):
+            contact, new = next(self.script)
+            return SimpleNamespace(contact=contact, new_stroke=new)
+
+    writer = Writer(Replay(), Style.load("kai"))
+    writer.brush = SimpleNamespace(step=lambda pose: SimpleNamespace(converged=True, status="converged"),
+                                   footprint=lambda: [[(0.0, 0.0)]])
+    for _ in range(3):
+        writer._step(np.array([10.0, 10.0]), 0.0, 0.2, 15.0)
+    assert writer.breaks == 1
+    writer.touched_in_stroke = False  # what write_stroke does at a stroke's start
+    writer._step(np.array([10.0, 10.0]), 0.0, 0.2, 15.0)
+    assert writer.breaks == 1         # a new stroke's first touch is no break

@@ -39,17 +39,20 @@ def check_bits(bits: int) -> int:
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
-               samples: int | None = None) -> Paper:
+               samples: int | None = None, counts: dict | None = None) -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
     stroke layer (None: the style's scene, 4 unless it says otherwise; 1 is ~2.5x faster on a
-    software renderer, with edges stepped at the pixel)."""
+    software renderer, with edges stepped at the pixel). counts: a dict that receives the frames
+    written and the strokes broken (the brush down again after a lift within one stroke)."""
     st = style if isinstance(style, Style) else Style.load(style)
     paper = writing_paper(st, size, len(glyphs), samples)
     writer = Writer(paper, st, seed)
     for k, glyph in enumerate(glyphs):
         writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
+    if counts is not None:
+        counts.update(frames=writer.frames, breaks=writer.breaks)
     return paper
 
 

@@ -166,6 +166,9 @@ class Writer:
         self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
         self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
         self.frames = 0
+        self.touching = False             # the last deposit touched the paper
+        self.touched_in_stroke = False    # a deposit of this stroke touched it
+        self.breaks = 0                   # strokes broken: down again after a lift within one stroke
         self.density = 1.0                # width factor of the character being written (density_gain)
 
     def _z(self, press: float, tilt: float) -> float:
@@ -176,8 +179,20 @@ class Writer:
         off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
                         s * self.offset_local[0] + c * self.offset_local[1]])
         root = target + off
-        self.brush.step(Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading)))
-        self.paper.deposit(self.brush)
+        pose = Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading))
+        stats = self.brush.step(pose)
+        # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
+        # When the solver stopped at q_max on an iterate that does (a bent tuft held up on its
+        # way to the new pose), hold the pose one more frame rather than lay a gap in the stroke
+        if (self.touching and press > 0.0 and not stats.converged and stats.status == "iteration cap"
+                and not self.brush.footprint()):
+            self.brush.step(pose)
+            self.frames += 1
+        dep = self.paper.deposit(self.brush)
+        # a break: the brush came down again after leaving the paper within one stroke
+        self.breaks += int(dep.new_stroke and self.touched_in_stroke)
+        self.touched_in_stroke = self.touched_in_stroke or dep.contact
+        self.touching = dep.contact
         self.frames += 1
 
     def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
@@ -200,6 +215,7 @@ class Writer:
 
     def write_stroke(self, points_mm: np.ndarray, kind: str) -> None:
         st = self.style
+        self.touched_in_stroke = False
         path, s = _resample(points_mm, st.step_mm)
         d = np.gradient(path, axis=0)
         heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))

@@ -65,13 +65,14 @@ def _score(task: tuple) -> tuple:
     char, glyph = task
     t0 = time.perf_counter()
     try:
-        paper = bt.text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"])
+        counts: dict = {}
+        paper = bt.text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], counts=counts)
         ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
         masks = stroke_masks(glyph, _JOB["size"])                  # one (size, size) bool per stroke
         ref = np.any(masks, axis=0)
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks)),
+        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks), counts["breaks"]),
                 time.perf_counter() - t0, small, None)
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
@@ -99,7 +100,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
                                                               (style, size, seed)):
             if err is None:
-                rows[char], overlays[char] = (score[0], secs, score[1], score[2], score[3], score[4]), small
+                rows[char], overlays[char] = (score[0], secs, *score[1:]), small
             else:
                 failed.append((char, err))
             if bar is not None:
@@ -125,11 +126,13 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         "extra_pieces": int(sum(rows[c][3] for c in order)),
         "chars_with_extra_pieces": [c for c in order if rows[c][3] > 0],
         "specks": int(sum(rows[c][4] for c in order)),
+        "broken_strokes": int(sum(rows[c][6] for c in order)),
         # where the ink misses: per part of a stroke, missed and outside pixels as fractions of all
         # the outlines' pixels (glyphs.score.error_by_part)
         "error_by_part": _error_by_part([rows[c][5] for c in order]),
         "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "round_pen_iou": rows[c][2],
-                  "extra_pieces": rows[c][3], "specks": rows[c][4], "seconds": rows[c][1]}
+                  "extra_pieces": rows[c][3], "specks": rows[c][4], "broken_strokes": rows[c][6],
+                  "seconds": rows[c][1]}
                  for c in order],
     }
     if sheet:
@@ -166,7 +169,8 @@ def table(result: dict) -> str:
                                                   f"outside {e['outside']:.3f};" for p, e in result["error_by_part"].items()),
              f"gaps and stray dots: {result['extra_pieces']} ink pieces more than the outlines have, in "
              f"{len(result['chars_with_extra_pieces'])} of {result['characters']} characters "
-             f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks",
+             f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks; "
+             f"{result['broken_strokes']} strokes broken (the brush down again after a lift within one stroke)",
              f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
     if result.get("sheet"):
         lines.append(f"contact sheet: {result['sheet']}")
