@@ -169,6 +169,7 @@ class Writer:
         self.touching = False             # the last deposit touched the paper
         self.touched_in_stroke = False    # a deposit of this stroke touched it
         self.breaks = 0                   # strokes broken: down again after a lift within one stroke
+        self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
 
     def _z(self, press: float, tilt: float) -> float:
@@ -181,12 +182,14 @@ class Writer:
         root = target + off
         pose = Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading))
         stats = self.brush.step(pose)
+        self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
         # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
         # When the solver stopped at q_max on an iterate that does (a bent tuft held up on its
         # way to the new pose), hold the pose one more frame rather than lay a gap in the stroke
         if (self.touching and press > 0.0 and not stats.converged and stats.status == "iteration cap"
-                and not self.brush.footprint()):
+                and not self.contact):
             self.brush.step(pose)
+            self.contact = self.brush.footprint()
             self.frames += 1
         dep = self.paper.deposit(self.brush)
         # a break: the brush came down again after leaving the paper within one stroke
@@ -196,7 +199,7 @@ class Writer:
         self.frames += 1
 
     def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
-        seen = _centroid_and_width(self.brush.footprint(), heading)
+        seen = _centroid_and_width(self.contact, heading)
         st = self.style
         if seen is None:
             if width_target is not None:
@@ -252,7 +255,7 @@ class Writer:
             t = max(0, j + 1) / st.entry_frames
             p0 = target(0)
             self._step(p0, heading[0], -st.hover + (self.press + st.hover) * t, tilt)
-            if not self.brush.footprint():
+            if not self.contact:
                 tip = np.asarray(self.brush.skeleton()[-1][:2])
                 err = path[0] - tip
                 self.offset_local += np.array([c * err[0] + sn * err[1], -sn * err[0] + c * err[1]])
