@@ -214,6 +214,7 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["specks"] == sum(r["specks"] for r in res["rows"])
     assert set(res["chars_with_extra_pieces"]) == {r["char"] for r in res["rows"] if r["extra_pieces"]}
     assert res["broken_strokes"] == sum(r["broken_strokes"] for r in res["rows"])
+    assert 0 <= res["held_frames"] < res["frames"]
     assert "gaps and stray dots" in bench_glyphs.table(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
@@ -300,22 +301,23 @@ def test_error_by_part_puts_each_miss_on_its_stroke_part():
 
 
 class _FloatingOnce:
-    """A brush stand-in whose first step stops at q_max floating above the paper, the second
+    """A brush stand-in whose first `floats` steps stop at q_max floating above the paper, the next
     touches (what the core does on a capped frame: the next one carries on from there)."""
 
-    def __init__(self, converged_first=False):
+    def __init__(self, converged_first=False, floats=1):
         self.steps = 0
         self.converged_first = converged_first
+        self.floats = floats
 
     def step(self, pose):
         from types import SimpleNamespace
 
         self.steps += 1
-        first = self.steps == 1 and not self.converged_first
-        return SimpleNamespace(converged=not first, status="iteration cap" if first else "converged")
+        floating = self.steps <= self.floats and not self.converged_first
+        return SimpleNamespace(converged=not floating, status="iteration cap" if floating else "converged")
 
     def footprint(self):
-        return [] if self.steps == 1 else [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]]
+        return [] if self.steps <= self.floats else [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]]
 
 
 class _Paper:
@@ -325,19 +327,20 @@ class _Paper:
         return SimpleNamespace(contact=bool(brush.footprint()), new_stroke=False)
 
 
-@pytest.mark.parametrize("touching, press, converged_first, steps", [
-    (True, 0.2, False, 2),     # pressed, capped and floating: the pose is held a frame
-    (True, -0.1, False, 1),    # above first contact: floating is right
-    (False, 0.2, False, 1),    # not in a stroke yet (coming down)
-    (True, 0.2, True, 1),      # converged: whatever it shows is the brush's answer
+@pytest.mark.parametrize("touching, press, converged_first, floats, steps", [
+    (True, 0.2, False, 1, 2),     # pressed, capped and floating: the pose is held a frame
+    (True, 0.2, False, 9, 4),     # ... at most three
+    (True, -0.1, False, 1, 1),    # above first contact: floating is right
+    (False, 0.2, False, 1, 1),    # not in a stroke yet (coming down)
+    (True, 0.2, True, 1, 1),      # converged: whatever it shows is the brush's answer
 ])
-def test_a_pressed_brush_left_floating_by_the_cap_is_held_a_frame(touching, press, converged_first, steps):
+def test_a_pressed_brush_left_floating_by_the_cap_is_held(touching, press, converged_first, floats, steps):
     writer = Writer(_Paper(), Style.load("kai"))
-    writer.brush = _FloatingOnce(converged_first)
+    writer.brush = _FloatingOnce(converged_first, floats)
     writer.touching = touching
     writer._step(np.array([10.0, 10.0]), 0.0, press, 15.0)
     assert writer.brush.steps == steps
-    assert writer.frames == steps
+    assert writer.frames == steps and writer.holds == steps - 1
 
 
 def test_the_writer_counts_a_stroke_broken_by_a_lift():

@@ -45,14 +45,15 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
     stroke layer (None: the style's scene, 4 unless it says otherwise; 1 is ~2.5x faster on a
     software renderer, with edges stepped at the pixel). counts: a dict that receives the frames
-    written and the strokes broken (the brush down again after a lift within one stroke)."""
+    written, the strokes broken (the brush down again after a lift within one stroke) and the
+    frames held (Writer._step)."""
     st = style if isinstance(style, Style) else Style.load(style)
     paper = writing_paper(st, size, len(glyphs), samples)
     writer = Writer(paper, st, seed)
     for k, glyph in enumerate(glyphs):
         writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
     if counts is not None:
-        counts.update(frames=writer.frames, breaks=writer.breaks)
+        counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds)
     return paper
 
 

@@ -72,7 +72,8 @@ def _score(task: tuple) -> tuple:
         ref = np.any(masks, axis=0)
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks), counts["breaks"]),
+        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks), counts["breaks"],
+                      counts["frames"], counts["holds"]),
                 time.perf_counter() - t0, small, None)
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
@@ -127,6 +128,8 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         "chars_with_extra_pieces": [c for c in order if rows[c][3] > 0],
         "specks": int(sum(rows[c][4] for c in order)),
         "broken_strokes": int(sum(rows[c][6] for c in order)),
+        "frames": int(sum(rows[c][7] for c in order)),
+        "held_frames": int(sum(rows[c][8] for c in order)),
         # where the ink misses: per part of a stroke, missed and outside pixels as fractions of all
         # the outlines' pixels (glyphs.score.error_by_part)
         "error_by_part": _error_by_part([rows[c][5] for c in order]),
@@ -170,7 +173,8 @@ def table(result: dict) -> str:
              f"gaps and stray dots: {result['extra_pieces']} ink pieces more than the outlines have, in "
              f"{len(result['chars_with_extra_pieces'])} of {result['characters']} characters "
              f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks; "
-             f"{result['broken_strokes']} strokes broken (the brush down again after a lift within one stroke)",
+             f"{result['broken_strokes']} strokes broken (the brush down again after a lift within one stroke); "
+             f"{result['held_frames']} of {result['frames']} frames held (the solver had left a pressed brush floating)",
              f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
     if result.get("sheet"):
         lines.append(f"contact sheet: {result['sheet']}")
