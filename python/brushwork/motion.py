@@ -223,7 +223,8 @@ class Writer:
 
     def write_stroke(self, points_mm: np.ndarray, kind: str) -> None:
         st = self.style
-        self.touched_in_stroke = False
+        # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
+        self.touched_in_stroke = self.touching = False
         path, s = _resample(points_mm, st.step_mm)
         d = np.gradient(path, axis=0)
         heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
