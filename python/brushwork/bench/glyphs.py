@@ -59,7 +59,9 @@ def round_pen_mask(glyph, size: int, width_em: float = ROUND_PEN_EM) -> np.ndarr
 
 
 def _score(task: tuple) -> tuple:
-    """(char, Glyph) -> (char, IoU or None, seconds, overlay (OVERLAY_PX^2 BGR) or None, error or None)."""
+    """(char, Glyph) -> (char, scores or None, seconds, overlay (OVERLAY_PX^2 BGR) or None, error or None);
+    scores: a dict of the character's measures (iou, round_pen_iou, extra_pieces, specks,
+    error_by_part, broken_strokes, frames, held_frames)."""
     import cv2
 
     char, glyph = task
@@ -72,9 +74,11 @@ def _score(task: tuple) -> tuple:
         ref = np.any(masks, axis=0)
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
-        return (char, (iou(ink, ref), pen, *pieces(ink, ref), error_by_part(glyph, ink, masks), counts["breaks"],
-                      counts["frames"], counts["holds"]),
-                time.perf_counter() - t0, small, None)
+        extra, specks = pieces(ink, ref)
+        scores = {"iou": iou(ink, ref), "round_pen_iou": pen, "extra_pieces": extra, "specks": specks,
+                  "error_by_part": error_by_part(glyph, ink, masks), "broken_strokes": counts["breaks"],
+                  "frames": counts["frames"], "held_frames": counts["holds"]}
+        return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
 
@@ -101,7 +105,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
         for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
                                                               (style, size, seed)):
             if err is None:
-                rows[char], overlays[char] = (score[0], secs, *score[1:]), small
+                rows[char], overlays[char] = dict(score, seconds=secs), small
             else:
                 failed.append((char, err))
             if bar is not None:
@@ -111,37 +115,37 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
             bar.close()
     wall = time.perf_counter() - t0
     order = [c for c in glyphs if c in rows]
-    scores = np.array([rows[c][0] for c in order])
-    worst = sorted(order, key=lambda c: rows[c][0])[:10]
+    scores = np.array([rows[c]["iou"] for c in order])
+    worst = sorted(order, key=lambda c: rows[c]["iou"])[:10]
     result = {
         "source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
         "characters": len(order), "failed": failed,
         "mean_iou": float(scores.mean()) if len(scores) else None,
         "p10_iou": float(np.percentile(scores, 10)) if len(scores) else None,
         "worst_iou": float(scores.min()) if len(scores) else None,
-        "worst": [[c, rows[c][0]] for c in worst],
-        "round_pen_mean_iou": float(np.mean([rows[c][2] for c in order])) if order else None,
+        "worst": [[c, rows[c]["iou"]] for c in worst],
+        "round_pen_mean_iou": float(np.mean([rows[c]["round_pen_iou"] for c in order])) if order else None,
         "round_pen_width_em": ROUND_PEN_EM,
         "chars_per_s": len(order) / wall if wall > 0 else None,
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
-        "extra_pieces": int(sum(rows[c][3] for c in order)),
-        "chars_with_extra_pieces": [c for c in order if rows[c][3] > 0],
-        "specks": int(sum(rows[c][4] for c in order)),
-        "broken_strokes": int(sum(rows[c][6] for c in order)),
-        "frames": int(sum(rows[c][7] for c in order)),
-        "held_frames": int(sum(rows[c][8] for c in order)),
+        "extra_pieces": int(sum(rows[c]["extra_pieces"] for c in order)),
+        "chars_with_extra_pieces": [c for c in order if rows[c]["extra_pieces"] > 0],
+        "specks": int(sum(rows[c]["specks"] for c in order)),
+        "broken_strokes": int(sum(rows[c]["broken_strokes"] for c in order)),
+        "frames": int(sum(rows[c]["frames"] for c in order)),
+        "held_frames": int(sum(rows[c]["held_frames"] for c in order)),
         # where the ink misses: per part of a stroke, missed and outside pixels as fractions of all
         # the outlines' pixels (glyphs.score.error_by_part)
-        "error_by_part": _error_by_part([rows[c][5] for c in order]),
-        "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}", "iou": rows[c][0], "round_pen_iou": rows[c][2],
-                  "extra_pieces": rows[c][3], "specks": rows[c][4], "broken_strokes": rows[c][6],
-                  "seconds": rows[c][1]}
+        "error_by_part": _error_by_part([rows[c]["error_by_part"] for c in order]),
+        "rows": [{"char": c, "codepoint": f"U+{ord(c):04X}",
+                  **{k: rows[c][k] for k in ("iou", "round_pen_iou", "extra_pieces", "specks", "broken_strokes",
+                                             "seconds")}}
                  for c in order],
     }
     if sheet:
         from ..sheet import Cell, contact_sheet
 
-        cells = [Cell(c, overlays.get(c), f"IoU {rows[c][0]:.3f}" if c in rows else "failed") for c in glyphs]
+        cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
         result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
     return result
 
