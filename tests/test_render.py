@@ -325,6 +325,49 @@ def test_color_ramp_colours_the_stroke():
     assert red.max() > 0.2                    # but the ramp reaches it
 
 
+def test_one_coloured_ink_keeps_its_colour_in_the_alpha_only_layer():
+    # without a colour ramp the stroke layer holds alpha alone and the ink's colour is applied
+    # when it is composited: the stroke reads the same pending and composited, in its colour,
+    # and an ink changed in mid-stroke keeps both colours
+    model = bw.BrushModel.preset("medium")
+    poses = straight_stroke(model, start=(15, 30), length_mm=40, step_mm=1.0, press=0.3)
+    half = len(poses) // 2
+    brush = bw.Brush(model)
+    brush.load_ink(ramp=[(0.8, 0.2, 0.1, 0.9)])
+    paper = bw.Paper(100, 60, 8)
+    for pose in poses[:half]:
+        brush.step(pose)
+        paper.deposit(brush)
+    pending = paper.rgba()
+    paper.end_stroke()
+    composited = paper.rgba()
+    np.testing.assert_allclose(pending, composited, atol=1e-6)
+    a = composited[..., 3]
+    inked = a > 0.5
+    assert inked.sum() > 100
+    assert a.max() == pytest.approx(0.9, abs=1e-4)       # the ink's own alpha
+    for c, want in enumerate((0.8, 0.2, 0.1)):            # premultiplied: c a / a = c
+        np.testing.assert_allclose(composited[..., c][inked] / a[inked], want, atol=1e-4)
+    # a longer stroke, its ink turned blue halfway: red at its start, blue at its end
+    poses = straight_stroke(model, start=(15, 30), length_mm=120, step_mm=1.0, press=0.3)
+    half = len(poses) // 2
+    brush = bw.Brush(model)
+    ink = brush.load_ink(ramp=[(1.0, 0.0, 0.0, 1.0)])
+    paper = bw.Paper(160, 60, 8)
+    for k, pose in enumerate(poses):
+        if k == half:
+            ink = brush.load_ink(ramp=[(0.0, 0.0, 1.0, 1.0)])
+        brush.step(pose)
+        paper.deposit(brush, ink)
+    paper.end_stroke()
+    rgba = paper.rgba()
+    cols = np.nonzero(rgba[..., 3].max(axis=0) > 0.5)[0]
+    x0, x1 = cols.min(), cols.max()
+    first, last = rgba[:, x0:x0 + (x1 - x0) // 8], rgba[:, x1 - (x1 - x0) // 8:x1 + 1]
+    assert first[..., 0].max() > 0.9 and first[..., 2].max() < 0.1
+    assert last[..., 2].max() > 0.9 and last[..., 0].max() < 0.1
+
+
 # --- strokes, undo, PNG --------------------------------------------------------------------------
 
 def test_undo_removes_the_last_stroke_only():

@@ -172,7 +172,9 @@ class Paper {
   void set_map(const std::string& which, const float* data, int rows, int cols);
 
   // for the brush view: the paper tile textures and, while a stroke is pending, its layer
-  struct TileRef { unsigned paper, layer; int x0, y0, w, h; };
+  // layer_ink: (r, g, b, 1) when the layer holds alpha alone (the stroke's straight ink colour),
+  // (0, 0, 0, 0) when it holds premultiplied RGBA
+  struct TileRef { unsigned paper, layer; int x0, y0, w, h; std::array<float, 4> layer_ink; };
   std::vector<TileRef> tile_textures();
 
  private:
@@ -183,6 +185,7 @@ class Paper {
   void resolve_layer(const std::array<int, 4>& rect);
   void read_layer_alpha(const std::array<int, 4>& rect, std::vector<float>& out);
   void forget_layer_alpha(const std::array<int, 4>& rect);  // zero the kept alpha over rect
+  std::array<float, 4> layer_ink() const;  // see TileRef
 
   std::shared_ptr<RenderContext> ctx_;
   SceneFeatures scene_;
@@ -200,6 +203,7 @@ class Paper {
   std::vector<float> last_vertices_;     // (V, 3) render vertices of the last deposit, mm
   std::vector<float> last_centers_;      // (V, 3) their ring centres, mm
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
+  std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom
   std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
   std::vector<float> undo_pixels_;

@@ -192,6 +192,8 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
         gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
       }
       gl::Uniform1i(glu::uniform(paper_prog_, "u_has_layer"), t.layer != 0 ? 1 : 0);
+      gl::Uniform4f(glu::uniform(paper_prog_, "u_layer_ink"), t.layer_ink[0], t.layer_ink[1], t.layer_ink[2],
+                    t.layer_ink[3]);
       gl::DrawArrays(GL_TRIANGLES, 0, 6);
     }
     gl::ActiveTexture(GL_TEXTURE0);

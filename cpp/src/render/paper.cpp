@@ -307,7 +307,12 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       // multisampled (samples_ > 1) so that footprints thinner than a pixel still leave faint,
       // unbroken ink, then resolved into a single-sample texture (composited and read back);
       // with one sample the layer is drawn straight into that texture
-      t.layer_tex = glu::texture(GL_RGBA32F, t.w, t.h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
+      // with max blending and one ink colour the layer holds alpha alone (R32F): the colour is
+      // the stroke's, applied when the layer is composited (a quarter of the bytes per fragment
+      // blended and read back; ~20% of a deposit on llvmpipe)
+      const GLenum layer_format = max_blend_ ? GL_R32F : GL_RGBA32F;
+      t.layer_tex = glu::texture(layer_format, t.w, t.h, max_blend_ ? GL_RED : GL_RGBA, GL_FLOAT, nullptr, false,
+                                 GL_CLAMP_TO_EDGE);
       if (!max_blend_) {
         gl::GenRenderbuffers(1, &t.layer_depth_ms);
         gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
@@ -318,7 +323,7 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       if (samples_ > 1) {
         gl::GenRenderbuffers(1, &t.layer_color_ms);
         gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
-        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, GL_RGBA32F, t.w, t.h);
+        gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, layer_format, t.w, t.h);
         gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
       } else {
         gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
@@ -372,14 +377,15 @@ void Paper::read_layer_alpha(const Rect& rect, std::vector<float>& out) {
     const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
     if (empty(r) || t.layer_fbo == 0) continue;
     const int w = r[2] - r[0], h = r[3] - r[1];
-    buf.resize(static_cast<std::size_t>(4) * w * h);
+    const int comps = max_blend_ ? 1 : 4;  // an alpha-only layer, or premultiplied RGBA
+    buf.resize(static_cast<std::size_t>(comps) * w * h);
     gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
     gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl::ReadPixels(r[0] - t.x0, r[1] - t.y0, w, h, GL_RGBA, GL_FLOAT, buf.data());
+    gl::ReadPixels(r[0] - t.x0, r[1] - t.y0, w, h, max_blend_ ? GL_RED : GL_RGBA, GL_FLOAT, buf.data());
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         out[static_cast<std::size_t>(y + r[1] - rect[1]) * rw + (x + r[0] - rect[0])] =
-            buf[4 * (static_cast<std::size_t>(y) * w + x) + 3];
+            buf[comps * (static_cast<std::size_t>(y) * w + x) + comps - 1];
   }
 }
 
@@ -426,6 +432,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     last_vertices_ = cur.position;
     last_centers_ = cur.center;
   }
+  // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
+  // (the sweep goes on from the last deposit)
+  const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
+  if (max_blend_ && stroke_pending_ && color != stroke_color_) flush_stroke();
+  stroke_color_ = color;
   const std::vector<float>& prev = last_vertices_;
   const std::vector<float>& prev_c = last_centers_;
 
@@ -595,7 +606,6 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       wet[i] = static_cast<float>(std::clamp(brush.wetness[i], 0.0, 1.0));
       press[i] = pr[i];
     }
-    const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
     gl::Uniform1i(fp.u_nodes, nodes);
     gl::Uniform1fv(fp.u_wet, nodes, wet);
     gl::Uniform1fv(fp.u_press, nodes, press);
@@ -770,6 +780,8 @@ void Paper::flush_stroke() {
     gl::ActiveTexture(GL_TEXTURE0);
     gl::BindTexture(GL_TEXTURE_2D, t.layer_tex);
     gl::Uniform1i(glu::uniform(composite_program_, "u_layer"), 0);
+    const std::array<float, 4> li = layer_ink();
+    gl::Uniform4f(glu::uniform(composite_program_, "u_layer_ink"), li[0], li[1], li[2], li[3]);
     gl::DrawArrays(GL_TRIANGLES, 0, 6);
     gl::BindTexture(GL_TEXTURE_2D, 0);  // (with one sample the layer is drawn into that texture)
     gl::Disable(GL_BLEND);
@@ -868,12 +880,18 @@ void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>
     if (stroke_pending_ && t.layer_fbo && !empty(r)) {
       // a stroke still in the layer shows as if composited (premultiplied over)
       const int x = r[0] - t.x0, y = r[1] - t.y0, w = r[2] - r[0], h = r[3] - r[1];
-      layer.resize(static_cast<std::size_t>(4) * w * h);
+      // (an alpha-only layer's texel a is the ink (r a, g a, b a, a))
+      const std::array<float, 4> li = layer_ink();
+      const bool single = li[3] > 0.5f;
+      const int comps = single ? 1 : 4;
+      layer.resize(static_cast<std::size_t>(comps) * w * h);
       gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
-      gl::ReadPixels(x, y, w, h, GL_RGBA, GL_FLOAT, layer.data());
+      gl::ReadPixels(x, y, w, h, single ? GL_RED : GL_RGBA, GL_FLOAT, layer.data());
       for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
-          const float* L = &layer[4 * (static_cast<std::size_t>(j) * w + i)];
+          const float* T = &layer[comps * (static_cast<std::size_t>(j) * w + i)];
+          const float L[4] = {single ? li[0] * T[0] : T[0], single ? li[1] * T[0] : T[1],
+                              single ? li[2] * T[0] : T[2], single ? T[0] : T[3]};
           float* P = &buf[4 * (static_cast<std::size_t>(j + y) * t.w + (i + x))];
           for (int c = 0; c < 4; ++c) P[c] = L[c] + P[c] * (1.0f - L[3]);
         }
@@ -922,12 +940,19 @@ void Paper::write_rgba(const float* in) {
   glu::check("paper upload");
 }
 
+std::array<float, 4> Paper::layer_ink() const {
+  // how the layer's texels become premultiplied ink: (r, g, b, 1) for an alpha-only layer
+  // (texel a -> (r a, g a, b a, a), the ink's alpha already in a), (0, 0, 0, 0) for RGBA
+  if (!max_blend_) return {0, 0, 0, 0};
+  return {stroke_color_[0], stroke_color_[1], stroke_color_[2], 1.0f};
+}
+
 std::vector<Paper::TileRef> Paper::tile_textures() {
   ctx_->make_current();
   if (stroke_pending_) resolve_layer(stroke_rect_);
   std::vector<TileRef> out;
   for (auto& tp : tiles_)
-    out.push_back({tp->paper_tex, stroke_pending_ ? tp->layer_tex : 0u, tp->x0, tp->y0, tp->w, tp->h});
+    out.push_back({tp->paper_tex, stroke_pending_ ? tp->layer_tex : 0u, tp->x0, tp->y0, tp->w, tp->h, layer_ink()});
   return out;
 }
 

@@ -130,7 +130,12 @@ void main() {
   a *= clamp(wet * 10.0, 0.0, 1.0);
 #endif
   if (a <= 1.0 / 4096.0) discard;
+#ifdef USE_MAX_BLEND
+  // the layer holds alpha alone (R32F); the stroke's colour is applied at the composite
+  o_color = vec4(a, 0.0, 0.0, 0.0);
+#else
   o_color = vec4(rgb * a, a);
+#endif
 #ifndef USE_MAX_BLEND
   // the stroke layer keeps the densest deposit per pixel (depth test LESS on 1 - alpha; with
   // one ink colour the blend equation MAX does it)
@@ -148,8 +153,12 @@ void main() { gl_Position = vec4(a_pos, 0.0, 1.0); }
 
 inline constexpr const char* kCompositeFragment = R"(#version 330 core
 uniform sampler2D u_layer;
+uniform vec4 u_layer_ink;   // (r, g, b, 1): the layer holds alpha alone; (0, 0, 0, 0): premultiplied RGBA
 out vec4 o_color;
-void main() { o_color = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0); }
+void main() {
+  vec4 l = texelFetch(u_layer, ivec2(gl_FragCoord.xy), 0);
+  o_color = u_layer_ink.a > 0.5 ? vec4(u_layer_ink.rgb * l.r, l.r) : l;
+}
 )";
 
 }  // namespace brushwork::shaders
@@ -214,11 +223,16 @@ in vec2 v_uv;
 uniform sampler2D u_paper;   // premultiplied ink
 uniform sampler2D u_layer;   // the stroke in progress, premultiplied
 uniform int u_has_layer;
+uniform vec4 u_layer_ink;   // as the composite's: (r, g, b, 1) alpha-only layer, 0 RGBA
 uniform vec3 u_paper_color;
 out vec4 o_color;
 void main() {
   vec4 ink = texture(u_paper, v_uv);
-  if (u_has_layer == 1) { vec4 l = texture(u_layer, v_uv); ink = l + ink * (1.0 - l.a); }
+  if (u_has_layer == 1) {
+    vec4 l = texture(u_layer, v_uv);
+    if (u_layer_ink.a > 0.5) l = vec4(u_layer_ink.rgb * l.r, l.r);
+    ink = l + ink * (1.0 - l.a);
+  }
   o_color = vec4(ink.rgb + u_paper_color * (1.0 - ink.a), 1.0);
 }
 )";
