@@ -342,3 +342,19 @@ def test_pieces_counts_a_broken_stroke_and_a_stray_dot():
     assert pieces(np.zeros_like(ref), ref) == (0, 0)  # no ink: nothing extra
     with pytest.raises(ValueError, match="shapes differ"):
         pieces(ref[:10], ref)
+
+
+def test_a_sliver_footprint_keeps_its_centre_on_the_ink():
+    # an outer loop and a hole that nearly cancel (a footprint of 1e-4 mm^2 net) have an area
+    # centroid far off the ink; the driver would aim the root there (one threw it 200 mm)
+    from brushwork.motion import _centroid_and_width
+
+    outer = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])          # counter-clockwise
+    e, dx = 0.99995, 2e-3
+    hole = (np.array([[0.0, 0.0], [0.0, 1.0], [1.0, 1.0], [1.0, 0.0]]) - 0.5) * e + 0.5 + [dx, 0.0]
+    centre, width, behind, ahead = _centroid_and_width([outer, hole], 0.0)
+    assert np.all(centre >= 0.0) and np.all(centre <= 1.0)
+    assert width == pytest.approx(1.0) and behind >= 0.0 and ahead >= 0.0
+    # an ordinary footprint keeps its area centroid
+    tri = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 3.0]])
+    np.testing.assert_allclose(_centroid_and_width([tri], 0.0)[0], [1.0, 1.0])

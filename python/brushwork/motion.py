@@ -148,6 +148,11 @@ def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float
         return None
     pts = np.vstack(loops)
     centre = np.array([cx / area, cy / area])
+    # a sliver whose outer loop and hole nearly cancel has a centroid anywhere (one at 200 mm
+    # from a 100 mm em box threw the root there and swept a band across 蒙): the centroid of
+    # real ink lies within its points' bounds, else the points' mean stands in
+    if np.any(centre < pts.min(axis=0)) or np.any(centre > pts.max(axis=0)):
+        centre = pts.mean(axis=0)
     across = np.array([-math.sin(heading), math.cos(heading)])
     along = (pts - centre) @ np.array([math.cos(heading), math.sin(heading)])
     return centre, float(np.ptp(pts @ across)), float(-along.min()), float(along.max())
@@ -217,6 +222,10 @@ class Writer:
         # wanders a little from frame to frame, and chasing it widens the stroke)
         self.offset_local += np.array([st.position_gain * (c * err[0] + s * err[1]),
                                        st.across_gain * (-s * err[0] + c * err[1])])
+        # the root is never farther than a tuft length from where the tuft touches
+        reach = float(np.linalg.norm(self.offset_local))
+        if reach > self.L:
+            self.offset_local *= self.L / reach
         if width_target is not None:
             rel = (width_target - width) / max(width_target, 1e-3)
             self.press = float(np.clip(self.press + st.width_gain * rel, 0.0, 0.45))
