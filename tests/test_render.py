@@ -16,7 +16,8 @@ import pytest
 
 import brushwork as bw
 from brushwork.motions import along_path, straight_stroke
-from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD)
+from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD, MESH_ERROR_VS_CAPS,
+                        MESH_INK_REL)
 
 
 def pressed(tilt_deg: float, press: float, preset: str = "medium", frames: int = 30) -> bw.Brush:
@@ -107,6 +108,43 @@ def test_scene_rejects_unknown_and_out_of_range_settings():
         bw.Scene(dry_map=True, dry_onset=2.0)
     with pytest.raises(ValueError, match="samples"):
         bw.Scene(samples=3)
+    for bad in (-1.0, 0.2, float("nan")):
+        with pytest.raises(ValueError, match="mesh_px"):
+            bw.Scene(mesh_px=bad)
+
+
+def test_the_render_mesh_is_as_fine_as_the_resolution_needs():
+    small = bw.Brush("small").model
+    caps = bw.Scene()
+    def mesh(px_per_mm, **scene):
+        opt = bw.Paper(20, 20, px_per_mm, scene=bw.Scene(**scene)).mesh_options(small)
+        return opt.rings_per_segment, opt.around
+    coarse, batch, fine = mesh(2.0), mesh(10.24), mesh(40.0)
+    assert coarse[0] < batch[0] <= fine[0] and coarse[1] < batch[1] < fine[1]
+    assert fine == (caps.mesh_rings, caps.mesh_around)            # the caps bind at high resolution
+    assert mesh(10.24, mesh_px=0.0) == (caps.mesh_rings, caps.mesh_around)
+    assert mesh(10.24, mesh_rings=3, mesh_around=16) == (3, 16)
+    assert batch[1] % 4 == 0 and coarse[1] >= 8 and coarse[0] >= 1
+
+
+def test_a_coarse_render_mesh_lays_the_ink_of_a_fine_one():
+    # the small brush's stroke at a batch's 1024 px per 100 mm: the default mesh (coarser than the
+    # caps there), the caps' mesh and a much finer one.  Each ring keeps its section's area, so
+    # the coarse mesh loses little ink, and it errs hardly more than the caps' mesh
+    model = bw.BrushModel.preset("small")
+    poses = straight_stroke(model, start=(20, 50), length_mm=50, step_mm=1.0, press=0.25)
+    inks = {}
+    for name, scene in (("default", bw.Scene()), ("caps", bw.Scene(mesh_px=0.0)),
+                        ("fine", bw.Scene(mesh_rings=16, mesh_around=128, mesh_px=0.0))):
+        paper = bw.Paper(100, 100, 10.24, scene=scene)
+        draw(paper, bw.Brush(model), poses)
+        inks[name] = paper.ink()
+    assert bw.Paper(10, 10, 10.24).mesh_options(model).around < bw.Scene().mesh_around
+    ref = inks["fine"].sum()
+    assert ref > 500
+    err = {k: float(np.abs(inks[k] - inks["fine"]).sum() / ref) for k in ("default", "caps")}
+    assert abs(inks["default"].sum() - ref) <= MESH_INK_REL * ref
+    assert err["default"] <= MESH_ERROR_VS_CAPS * err["caps"], err
 
 
 def test_single_sample_layer_matches_the_multisampled_one():

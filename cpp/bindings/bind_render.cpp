@@ -61,6 +61,7 @@ What a scene uses; what it does not use is not computed and not compiled into th
       .def_readwrite("seed", &SceneFeatures::seed)
       .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
       .def_readwrite("mesh_around", &SceneFeatures::mesh_around)
+      .def_readwrite("mesh_px", &SceneFeatures::mesh_px)
       .def_readwrite("samples", &SceneFeatures::samples)
       .def("validate", &SceneFeatures::validate);
 
@@ -116,6 +117,8 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
       .def_property_readonly("tiles", &Paper::tiles)
       .def_property_readonly("samples", &Paper::samples, "multisampling of the stroke layer")
       .def_property_readonly("scene", &Paper::scene)
+      .def("mesh_options", &Paper::mesh_options, py::arg("model"),
+           "the render mesh (rings per segment, around) a brush of this model gets on this paper")
       .def("ink", [](Paper& p) {
         py::array_t<float> a({p.height_px(), p.width_px()});
         p.read_ink(a.mutable_data());

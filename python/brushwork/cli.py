@@ -89,8 +89,12 @@ def _render_args(p: argparse.ArgumentParser) -> None:
 def _render(args: argparse.Namespace) -> int:
     from .bench import render
 
-    return _report("render", args, lambda: render.run(px=args.px, frames=args.frames, repeats=args.repeats,
-                                                      progress=_progress), render.table)
+    def run() -> dict:
+        result = render.run(px=args.px, frames=args.frames, repeats=args.repeats, progress=_progress)
+        result["mesh"] = render.mesh_sweep(frames=args.frames, repeats=args.repeats, progress=_progress)
+        return result
+
+    return _report("render", args, run, render.table)
 
 
 def _footprint_args(p: argparse.ArgumentParser) -> None:

@@ -23,8 +23,9 @@ PARAMETERS = {
     "soak_drain_mm": ("mm", "travel in contact over which excess moisture falls by 1/e"),
     "capillary": ("-", "depletion: per frame, each node's wetness moves this far toward the tuft's mean"),
     "seed": ("-", "seed of the procedural split, dry and grain maps"),
-    "mesh_rings": ("-", "rings per spine segment of the swept surface"),
-    "mesh_around": ("-", "vertices around one ring"),
+    "mesh_rings": ("-", "rings per spine segment of the swept surface, at most"),
+    "mesh_around": ("-", "vertices around one ring, at most"),
+    "mesh_px": ("px", "the render mesh is this fine on the paper (segment and belly circumference over it), up to the two caps; 0: the caps"),
     "samples": ("-", "multisampling of the stroke layer: 1, 2, 4 (default) or 8; 1 is ~2.5x faster on a software renderer"),
 }
 

@@ -1,6 +1,7 @@
 // The paper: float ink in tiles, the footprint pass, strokes, undo and readback
 // (seed "Ink depositing", "System prototype": stroke undo, image saving and loading).
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -34,6 +35,7 @@ class FootprintProgram {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxNodes = 33;  // u_wet / u_press array size (n_segments <= 16 needs 17)
 constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
 
@@ -79,6 +81,8 @@ void SceneFeatures::validate() const {
     throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
   if (mesh_around < 8 || mesh_around > 512)
     throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+  if (!std::isfinite(mesh_px) || (mesh_px != 0.0 && (mesh_px < 0.5 || mesh_px > 100.0)))
+    throw std::invalid_argument("scene.mesh_px = " + std::to_string(mesh_px) + ": expected 0 or 0.5..100");
   if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
     throw std::invalid_argument("scene.samples = " + std::to_string(samples) + ": expected 1, 2, 4 or 8");
 }
@@ -389,6 +393,28 @@ void Paper::read_layer_alpha(const Rect& rect, std::vector<float>& out) {
   }
 }
 
+MeshOptions Paper::mesh_options(const BrushModel& model) const {
+  // a software rasteriser pays per triangle more than per pixel: a footprint drawn from 48 x 6
+  // rings' 3-4 px triangles costs ~3x what 6 px ones do.  So the mesh is made only as fine as
+  // mesh_px on this paper: the longest spine segment and the belly's circumference 2 pi r
+  // (the widest ring, unpressed) over mesh_px, around rounded up to a multiple of 4.  The
+  // chords of a ring of radius r px with A vertices lie up to r pi^2 / (2 A^2) px inside it
+  // (0.2 px for the small brush's belly at 1024 px and 6 px); deposit() moves the vertices out
+  // so that each ring keeps its section's area.
+  // (A brush keeps its mesh for a whole stroke: the sweep pairs last and this deposit's
+  // vertices, so the choice depends on nothing that changes from frame to frame.)
+  MeshOptions opt;
+  opt.rings_per_segment = scene_.mesh_rings;
+  opt.around = scene_.mesh_around;
+  if (scene_.mesh_px > 0.0) {
+    const double seg_px = model.segment_lengths().maxCoeff() * ppm_;
+    const double ring_px = 2.0 * kPi * model.belly_radius * ppm_;
+    opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(seg_px / scene_.mesh_px)), 1, scene_.mesh_rings);
+    opt.around = std::clamp(4 * static_cast<int>(std::ceil(ring_px / scene_.mesh_px / 4.0)), 8, scene_.mesh_around);
+  }
+  return opt;
+}
+
 DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   ctx_->make_current();
   const int nodes = brush.model().n_segments + 1;
@@ -399,10 +425,18 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
   DepositStats stats;
 
-  MeshOptions opt;
-  opt.rings_per_segment = scene_.mesh_rings;
-  opt.around = scene_.mesh_around;
-  const RenderMesh cur = build_render_mesh(brush, opt, false);
+  const MeshOptions opt = mesh_options(brush.model());
+  RenderMesh cur = build_render_mesh(brush, opt, false);
+  {
+    // a ring of A vertices is a polygon inscribed in its section: its area falls short by the
+    // factor A sin(2 pi / A) / (2 pi) (1.1% at A = 24), and so would the ink.  Each vertex is
+    // moved out from its ring's centre by the square root of the inverse, so that the polygon
+    // has its section's area (vertices a little outside the surface, chord middles a little
+    // inside)
+    const double A = opt.around, k = std::sqrt(2.0 * kPi / (A * std::sin(2.0 * kPi / A)));
+    for (std::size_t i = 0; i < cur.position.size(); ++i)
+      cur.position[i] = static_cast<float>(cur.center[i] + k * (cur.position[i] - cur.center[i]));
+  }
   const int V = cur.vertices();
   const double soak = (scene_.soaked_tip && ink != nullptr) ? scene_.soak_expand * ink->excess : 0.0;
 

@@ -1,8 +1,15 @@
-"""Render benchmark: the per-frame cost of depositing ink, minimal scene against full scene.
+"""Render benchmark: the per-frame cost of depositing ink, minimal scene against full scene,
+and the render mesh's ink error against its deposit time.
 
 The recorded press-drag-turn-lift stroke of the medium brush is simulated and deposited into a
 canvas `px` pixels wide (2048 by default, 100 mm square); per-frame wall times of `Brush.step`
 and `Paper.deposit` are taken separately, and "frames/s" is the two together.
+
+The mesh sweep (`mesh_sweep`) deposits one recorded stroke of the glyph driver's brush (the
+small preset, at a batch's 1024 px per 100 mm em) through render meshes of decreasing fineness
+(`Scene.mesh_px`) and scores each against a much finer mesh: the ink's L1 error relative to the
+reference's ink, the ink lost (the chords of a coarse ring lie inside the surface), and the
+deposit's time.
 """
 from __future__ import annotations
 
@@ -76,6 +83,72 @@ def run(px: int = 2048, frames: int = 320, repeats: int = 3, progress=None) -> d
             "renderer": info["renderer"], "rows": rows}
 
 
+MESH_PX = (0.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0)   # 0: the caps (6 rings per segment, 48 around)
+REFERENCE_MESH = {"mesh_rings": 16, "mesh_around": 128, "mesh_px": 0.0}
+
+
+def _mesh_stroke_ink(scene: Scene, poses: list, px_per_mm: float, repeats: int) -> tuple[np.ndarray, float]:
+    """(ink (H, W) float32, median deposit ms over the best of `repeats` runs) of the small brush
+    along `poses`; no depletion, so every mesh sees the very same brush states."""
+    best, ink = None, None
+    for _ in range(repeats):
+        brush = Brush("small")
+        paper = Paper(PAPER_MM, PAPER_MM, px_per_mm, scene=scene)
+        deps = []
+        for pose in poses:
+            brush.step(pose)
+            t0 = time.perf_counter()
+            paper.deposit(brush)
+            deps.append(time.perf_counter() - t0)
+        paper.end_stroke()
+        ms = float(np.median(deps) * 1e3)
+        if best is None or ms < best:
+            best, ink = ms, paper.ink()
+    return ink, best
+
+
+def mesh_sweep(px: int = 1024, frames: int = 320, repeats: int = 3, progress=None) -> dict:
+    """Ink error against deposit time for each `Scene.mesh_px` in MESH_PX (the default marked),
+    against REFERENCE_MESH. Returns {"px", "frames", "default_mesh_px", "rows": [{mesh_px,
+    rings, around, deposit_ms_p50, ink_l1_rel, ink_lost_rel, default}]}."""
+    if px < 64 or px > 8192:
+        raise ValueError(f"px = {px}: expected 64..8192")
+    ppm = px / PAPER_MM
+    poses = _poses(Brush("small"), frames)
+    ref, ref_ms = _mesh_stroke_ink(Scene(**REFERENCE_MESH), poses, ppm, 1)
+    ref_sum = float(ref.sum())
+    default = Scene().mesh_px
+    rows = []
+    for mesh_px in MESH_PX:
+        scene = Scene(mesh_px=mesh_px)
+        ink, ms = _mesh_stroke_ink(scene, poses, ppm, repeats)
+        opt = Paper(10.0, 10.0, ppm, scene=scene).mesh_options(Brush("small").model)
+        rows.append({"mesh_px": mesh_px, "rings": opt.rings_per_segment, "around": opt.around,
+                     "deposit_ms_p50": ms,
+                     "ink_l1_rel": float(np.abs(ink - ref).sum()) / ref_sum,
+                     "ink_lost_rel": 1.0 - float(ink.sum()) / ref_sum,
+                     "default": mesh_px == default})
+        if progress:
+            progress(f"mesh_px {mesh_px:g}: {ms:.2f} ms a deposit, ink error {rows[-1]['ink_l1_rel']:.4f}")
+    return {"px": px, "frames": frames, "repeats": repeats, "default_mesh_px": default,
+            "reference": REFERENCE_MESH, "reference_deposit_ms_p50": ref_ms, "rows": rows}
+
+
+def mesh_table(result: dict) -> str:
+    from .report import markdown_table
+
+    rows = [{**r, "mesh_px": f"{r['mesh_px']:g}" + (" (default)" if r["default"] else "") +
+             (" = the caps" if r["mesh_px"] == 0 else "")} for r in result["rows"]]
+    text = markdown_table(
+        rows, ["mesh_px", "rings", "around", "deposit_ms_p50", "ink_l1_rel", "ink_lost_rel"],
+        ["mesh_px", "rings per segment", "around", "deposit ms (p50)", "ink L1 error (rel.)",
+         "ink lost (rel.)"])
+    ref = result["reference"]
+    return (text + f"\n\nsmall brush, press-drag-turn-lift, {result['frames']} frames, {result['px']} px per "
+            f"{PAPER_MM:g} mm, best of {result['repeats']}; reference mesh {ref['mesh_rings']} rings x "
+            f"{ref['mesh_around']} around ({result['reference_deposit_ms_p50']:.2f} ms a deposit)")
+
+
 def table(result: dict) -> str:
     from .report import markdown_table
 
@@ -84,5 +157,8 @@ def table(result: dict) -> str:
         ["scene", "features", "step_ms_p50", "deposit_ms_p50", "deposit_ms_p95", "readback_ms", "fps"],
         ["scene", "features", "step ms (p50)", "deposit ms (p50)", "deposit ms (p95)",
          f"readback ms ({result['px']} px)", "frames/s (step + deposit)"])
-    return (text + f"\n\n{result['px']} x {result['px']} px canvas, {result['frames']} frames, "
-            f"best of {result['repeats']}; {result['backend']}: {result['renderer']}")
+    text += (f"\n\n{result['px']} x {result['px']} px canvas, {result['frames']} frames, "
+             f"best of {result['repeats']}; {result['backend']}: {result['renderer']}")
+    if "mesh" in result:
+        text += "\n\nrender mesh: ink error against deposit time\n\n" + mesh_table(result["mesh"])
+    return text
