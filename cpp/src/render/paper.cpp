@@ -1,7 +1,6 @@
 // The paper: float ink in tiles, the footprint pass, strokes, undo and readback
 // (seed "Ink depositing", "System prototype": stroke undo, image saving and loading).
 #include <algorithm>
-#include <cstdlib>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -478,26 +477,46 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   // antialiasing above it included), their pixel bounds and the largest travel; and those that
   // reach it in the last and in this deposit (the slid copies of each part draw only their own:
   // a pressed blob's slides need not rasterise the faces of the tip that only touches later)
-  const double zcut = 1.0 / ppm_;
-  std::vector<std::uint32_t> faces, faces_prev, faces_cur;
+  //
+  // The sweep's list puts first the faces near the paper, then the inner ones: wholly below
+  // it by more than half a pixel's depth in both deposits.  An inner face is inked all over
+  // at every blend (its z is a mix of negative values) and lies inside the footprint, whose
+  // outline runs through the faces near the paper (below the paper the surface does not fold:
+  // a section's widest points are at its centre's height, above the paper).  The union of the
+  // footprints over the blend is the two end footprints and the band their outline sweeps, so
+  // the blends in between draw the near faces only and the last (t = 1) all of them (t = 0
+  // is the last deposit's t = 1, drawn then).  ~40% of a pressed tuft's faces are inner: the
+  // deposit takes ~10% less, and the ink of 永和九年 at 1024 px (without depletion, so the
+  // same motion) differs from drawing every face on 3 of its 4.2 M pixels, by at most 0.18
+  // in coverage.  The slid copies draw
+  // all their faces: there the near band, steep at the tuft's sides, is thinner than the
+  // 1.5 px between copies, and the slid parts' inner faces alone filled 1-px lines along the
+  // stroke's edges (230 px of 永和九年).
+  const double zcut = 1.0 / ppm_, inner = 0.5 / ppm_;
+  std::vector<std::uint32_t> faces, faces_prev, faces_cur, inner_all;
   faces.reserve(cur.faces.size());
   std::vector<char> used(V, 0);
   for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
-    double lo_cur = 1e300, lo_prev = 1e300;
+    double lo_cur = 1e300, lo_prev = 1e300, hi_cur = -1e300, hi_prev = -1e300;
     for (int e = 0; e < 3; ++e) {
       const int v = static_cast<int>(cur.faces[f + e]);
-      lo_cur = std::min(lo_cur, placed(cur.position, cur.center, v, 2));
-      lo_prev = std::min(lo_prev, placed(prev, prev_c, v, 2));
+      const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
+      lo_cur = std::min(lo_cur, zc);
+      lo_prev = std::min(lo_prev, zp);
+      hi_cur = std::max(hi_cur, zc);
+      hi_prev = std::max(hi_prev, zp);
     }
     if (std::min(lo_cur, lo_prev) < zcut) {
-      for (int e = 0; e < 3; ++e) {
-        faces.push_back(cur.faces[f + e]);
-        used[cur.faces[f + e]] = 1;
-      }
+      for (int e = 0; e < 3; ++e) used[cur.faces[f + e]] = 1;
+      std::vector<std::uint32_t>& sweep = std::max(hi_cur, hi_prev) < -inner ? inner_all : faces;
+      sweep.insert(sweep.end(), &cur.faces[f], &cur.faces[f] + 3);
       if (lo_prev < zcut) faces_prev.insert(faces_prev.end(), &cur.faces[f], &cur.faces[f] + 3);
       if (lo_cur < zcut) faces_cur.insert(faces_cur.end(), &cur.faces[f], &cur.faces[f] + 3);
     }
   }
+  // (near faces first, then the inner ones: a draw of the first near_all indices is the band)
+  const std::size_t near_all = faces.size();
+  faces.insert(faces.end(), inner_all.begin(), inner_all.end());
   double bx0 = 1e300, by0 = 1e300, bx1 = -1e300, by1 = -1e300;  // mm, whole sweep
   double cx0 = 1e300, cy0 = 1e300, cx1 = -1e300, cy1 = -1e300;  // mm, this frame's part below
   double travel = 0.0;                                           // mm
@@ -702,16 +721,19 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       gl::Uniform1i(fp.u_blends, K);
       gl::Uniform2i(fp.u_slides, slides_prev, slides_cur);
       gl::Uniform2f(fp.u_shift, static_cast<float>(shift_x), static_cast<float>(shift_y));
-      // three instanced draws (blends, the last part slid, this part slid), each over its faces;
-      // u_first numbers their instances on from the draws before
-      const int first[3] = {0, K, K + slides_prev}, count[3] = {K, slides_prev, slides_cur};
-      const std::size_t offset[3] = {0, n_all, n_all + n_prev}, size[3] = {n_all, n_prev, n_cur};
-      for (int d = 0; d < 3; ++d) {
-        if (count[d] == 0 || size[d] == 0) continue;
-        gl::Uniform1i(fp.u_first, first[d]);
-        gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(size[d]), GL_UNSIGNED_INT,
-                                  reinterpret_cast<const void*>(offset[d] * sizeof(std::uint32_t)), count[d]);
-      }
+      // instanced draws: the blends before t = 1 over the near faces, t = 1 over all, the last
+      // part slid and this part slid over theirs; u_first numbers the instances on from the
+      // draws before
+      auto draw = [&](std::size_t offset, std::size_t size, int first, int count) {
+        if (count <= 0 || size == 0) return;
+        gl::Uniform1i(fp.u_first, first);
+        gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(size), GL_UNSIGNED_INT,
+                                  reinterpret_cast<const void*>(offset * sizeof(std::uint32_t)), count);
+      };
+      draw(0, near_all, 0, K - 1);
+      draw(0, n_all, K - 1, 1);
+      draw(n_all, n_prev, K, slides_prev);
+      draw(n_all + n_prev, n_cur, K + slides_prev, slides_cur);
     });
     gl::Disable(GL_SCISSOR_TEST);
     gl::Disable(GL_CULL_FACE);
