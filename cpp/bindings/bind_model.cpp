@@ -3,6 +3,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "brushwork/geometry.hpp"
 #include "brushwork/model.hpp"
 
 namespace py = pybind11;
@@ -71,4 +72,17 @@ BrushModel.parameters() for the table of units, ranges and meanings.)doc");
         PyObject_CallFunctionObjArgs((PyObject*)&PyProperty_Type, getter.ptr(), setter.ptr(),
                                      Py_None, py::str(doc).ptr(), nullptr));
   }
+
+  m.def(
+      "footprint_span",
+      [](const std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& loops,
+         double heading) -> py::object {
+        const brushwork::FootprintSpan f = brushwork::footprint_span(loops, heading);
+        if (!f.valid) return py::none();
+        return py::make_tuple(f.centroid, f.width, f.behind, f.ahead);
+      },
+      py::arg("loops"), py::arg("heading"),
+      "(centroid (2,) mm, width across `heading` mm, reach behind and ahead of the centroid along "
+      "it mm) of footprint loops (Brush.footprint()), or None without a footprint. A centroid "
+      "outside the points' bounds (a sliver whose loop and hole nearly cancel) is their mean.");
 }

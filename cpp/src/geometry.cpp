@@ -334,6 +334,50 @@ std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
   return loops;
 }
 
+FootprintSpan footprint_span(const std::vector<LoopMatrix>& loops, double heading) {
+  // area centroid by the shoelace moments: A = 1/2 sum cross, C = 1/(6A) sum (p_i + p_j) cross
+  FootprintSpan out;
+  double twice = 0.0, mx = 0.0, my = 0.0, sx = 0.0, sy = 0.0;
+  Eigen::Index count = 0;
+  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (const auto& L : loops) {
+    const Eigen::Index k = L.rows();
+    for (Eigen::Index i = 0; i < k; ++i) {
+      const Eigen::Index j = (i + 1 == k) ? 0 : i + 1;
+      const double cr = L(i, 0) * L(j, 1) - L(j, 0) * L(i, 1);
+      twice += cr;
+      mx += (L(i, 0) + L(j, 0)) * cr;
+      my += (L(i, 1) + L(j, 1)) * cr;
+      sx += L(i, 0);
+      sy += L(i, 1);
+      lo = lo.cwiseMin(Vec2(L(i, 0), L(i, 1)));
+      hi = hi.cwiseMax(Vec2(L(i, 0), L(i, 1)));
+    }
+    count += k;
+  }
+  const double area = 0.5 * twice;
+  if (count == 0 || std::abs(area) < 1e-9) return out;
+  out.valid = true;
+  out.centroid = Vec2(mx, my) / (6.0 * area);
+  if ((out.centroid.array() < lo.array()).any() || (out.centroid.array() > hi.array()).any())
+    out.centroid = Vec2(sx, sy) / static_cast<double>(count);
+  // extents across the heading and along it, about the centroid
+  const Vec2 along(std::cos(heading), std::sin(heading)), across(-along.y(), along.x());
+  double a_lo = 1e300, a_hi = -1e300, c_lo = 1e300, c_hi = -1e300;
+  for (const auto& L : loops)
+    for (Eigen::Index i = 0; i < L.rows(); ++i) {
+      const Vec2 d = Vec2(L(i, 0), L(i, 1)) - out.centroid;
+      a_lo = std::min(a_lo, d.dot(along));
+      a_hi = std::max(a_hi, d.dot(along));
+      c_lo = std::min(c_lo, d.dot(across));
+      c_hi = std::max(c_hi, d.dot(across));
+    }
+  out.width = c_hi - c_lo;
+  out.behind = -a_lo;
+  out.ahead = a_hi;
+  return out;
+}
+
 double loops_area(const std::vector<LoopMatrix>& loops) {
   // shoelace sum over every loop (ccw positive, cw negative)
   double twice = 0.0;

@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import _core
 from .brush import Brush, Pose
 from .paper import Paper
 from .scene import Scene
@@ -133,29 +134,14 @@ def _corners(path: np.ndarray, min_turn_deg: float = 55.0) -> np.ndarray:
 
 def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float, float] | None:
     """Area centroid (mm) of the footprint polygons, their width across `heading` (mm), and how
-    far they reach behind and ahead of the centroid along `heading` (mm)."""
+    far they reach behind and ahead of the centroid along `heading` (mm); None without a
+    footprint. (In the core: read every frame, it took 86 us in numpy, 1-2 us there. A sliver
+    whose outer loop and hole nearly cancel has its area centroid anywhere: one 200 mm from a
+    100 mm em box threw the root there and swept a band across 蒙; such a centroid, outside the
+    points' bounds, is replaced by their mean.)"""
     if not loops:
         return None
-    area, cx, cy = 0.0, 0.0, 0.0
-    for p in loops:
-        x, y = p[:, 0], p[:, 1]
-        xn, yn = np.roll(x, -1), np.roll(y, -1)
-        cr = x * yn - xn * y
-        area += cr.sum() / 2.0
-        cx += ((x + xn) * cr).sum() / 6.0
-        cy += ((y + yn) * cr).sum() / 6.0
-    if abs(area) < 1e-9:
-        return None
-    pts = np.vstack(loops)
-    centre = np.array([cx / area, cy / area])
-    # a sliver whose outer loop and hole nearly cancel has a centroid anywhere (one at 200 mm
-    # from a 100 mm em box threw the root there and swept a band across 蒙): the centroid of
-    # real ink lies within its points' bounds, else the points' mean stands in
-    if np.any(centre < pts.min(axis=0)) or np.any(centre > pts.max(axis=0)):
-        centre = pts.mean(axis=0)
-    across = np.array([-math.sin(heading), math.cos(heading)])
-    along = (pts - centre) @ np.array([math.cos(heading), math.sin(heading)])
-    return centre, float(np.ptp(pts @ across)), float(-along.min()), float(along.max())
+    return _core.footprint_span(loops, float(heading))
 
 
 class Writer:

@@ -52,4 +52,17 @@ std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> footprint
 double loops_area(
     const std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& loops);
 
+// What the glyph driver reads of a footprint each frame, seen along a heading (rad):
+// the area centroid (mm), the extent across the heading (mm), and how far the loops reach
+// behind and ahead of the centroid along it (mm).  A centroid outside the points' bounds (a
+// sliver whose outer loop and hole nearly cancel) is replaced by the points' mean.
+// `valid` is false when there is no footprint (no loops, or |area| < 1e-9 mm^2).
+struct FootprintSpan {
+  bool valid = false;
+  Vec2 centroid = Vec2::Zero();
+  double width = 0.0, behind = 0.0, ahead = 0.0;
+};
+FootprintSpan footprint_span(
+    const std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& loops, double heading);
+
 }  // namespace brushwork
