@@ -56,6 +56,19 @@ def test_out_of_range_field_raises_value_error_naming_it(field, value):
     assert getattr(m, field) == before, "a rejected value must leave the model unchanged"
 
 
+def test_replace_changes_a_copy_and_checks_every_field():
+    m = bw.BrushModel.preset("small")
+    r = m.replace(exponent=3, q_max=50, tolerance=1e-8)
+    assert (r.exponent, r.q_max, r.tolerance) == (3, 50, 1e-8)
+    assert (m.exponent, m.q_max, m.tolerance) == (2, 20, 1e-5), "replace must not touch the original"
+    assert r.tuft_length == m.tuft_length and r.belly_radius == m.belly_radius
+    assert bw.Brush(r).step(bw.Pose((0.0, 0.0, 0.6 * r.tuft_length))).iterations >= 1   # a usable model
+    with pytest.raises(TypeError, match="no field 'stiffnes'"):
+        m.replace(stiffnes=2.0)
+    with pytest.raises(ValueError, match="q_max"):
+        m.replace(q_max=0)
+
+
 def test_wrong_types_are_value_errors():
     m = bw.BrushModel()
     with pytest.raises(ValueError, match="n_segments.*integer"):

@@ -24,6 +24,27 @@ BrushModel.parameters() for the table of units, ranges and meanings.)doc");
       .def("node_radii", &BrushModel::node_radii, "(n+1,) mm, initial tuft radius r_i at spine node N_i.")
       .def("node_arclength", &BrushModel::node_arclength, "(n+1,) mm from the root along the unbent spine.")
       .def("bend_kappa", &BrushModel::bend_kappa, "(n,) N*mm/rad^m, bend spring constants, root first.")
+      .def(
+          "replace",
+          [](const BrushModel& s, const py::kwargs& fields) {
+            // a copy with the named fields changed, each through its range-checked property,
+            // then the whole model validated (fields that constrain each other)
+            py::object out = py::cast(BrushModel(s));
+            for (const auto& item : fields) {
+              const std::string name = item.first.cast<std::string>();
+              bool known = false;
+              for (const auto& p : brushwork::param_table()) known = known || p.name == name;
+              if (!known)
+                throw py::type_error("BrushModel.replace: no field '" + name +
+                                     "' (BrushModel.parameters() lists them)");
+              out.attr(name.c_str()) = item.second;
+            }
+            out.cast<const BrushModel&>().validate();
+            return out;
+          },
+          "A copy with the fields given by keyword changed: BrushModel.preset('small')."
+          "replace(q_max=50, tolerance=1e-8). Raises TypeError for an unknown field and "
+          "ValueError for a value out of range.")
       .def("__copy__", [](const BrushModel& s) { return BrushModel(s); })
       .def("copy", [](const BrushModel& s) { return BrushModel(s); }, "An independent copy.")
       .def_static(
