@@ -16,7 +16,7 @@ import pytest
 
 import brushwork as bw
 from brushwork.motions import along_path, straight_stroke
-from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD, MESH_ERROR_VS_CAPS,
+from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD, MESH_L1_REL,
                         MESH_INK_REL)
 
 
@@ -130,7 +130,9 @@ def test_the_render_mesh_is_as_fine_as_the_resolution_needs():
 def test_a_coarse_render_mesh_lays_the_ink_of_a_fine_one():
     # the small brush's stroke at a batch's 1024 px per 100 mm: the default mesh (coarser than the
     # caps there), the caps' mesh and a much finer one.  Each ring keeps its section's area, so
-    # the coarse mesh loses little ink, and it errs hardly more than the caps' mesh
+    # the coarse mesh loses little ink, and its ink is within 1.5% (L1) of the fine mesh's (the
+    # caps' within ~0.5-0.8%; bench render's mesh table: 1.2% on a press-drag-turn-lift, and
+    # 1.9% / 2.5% for mesh_px 12 / 16)
     model = bw.BrushModel.preset("small")
     poses = straight_stroke(model, start=(20, 50), length_mm=50, step_mm=1.0, press=0.25)
     inks = {}
@@ -144,7 +146,8 @@ def test_a_coarse_render_mesh_lays_the_ink_of_a_fine_one():
     assert ref > 500
     err = {k: float(np.abs(inks[k] - inks["fine"]).sum() / ref) for k in ("default", "caps")}
     assert abs(inks["default"].sum() - ref) <= MESH_INK_REL * ref
-    assert err["default"] <= MESH_ERROR_VS_CAPS * err["caps"], err
+    assert err["default"] <= MESH_L1_REL, err
+    assert err["caps"] <= err["default"], err
 
 
 def test_single_sample_layer_matches_the_multisampled_one():

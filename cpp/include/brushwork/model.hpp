@@ -33,7 +33,7 @@ struct BrushModel {
   double stretch_stiffness = 2.0;       // N*mm/mm^m, kappa of the stretch spring |delta^2 - S|^m at the belly
   double lateral_bend_stiffness = 0.5;  // N*mm, lateral bend springs at the root (scaled like kappa_j)
   double spread_gain = 1.5;             // S at full press, as a fraction of r_i
-  double spread_bend_gain = 0.5;        // extra S per rad^2 of bend at the node
+  double spread_bend_gain = 0.5;        // 1/rad^2, S x (1 + this 4 tanh(theta^2 / 4)) at bend theta
 
   // --- dissipation ---
   double internal_friction = 0.1;       // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame
