@@ -130,9 +130,9 @@ def test_the_render_mesh_is_as_fine_as_the_resolution_needs():
 def test_a_coarse_render_mesh_lays_the_ink_of_a_fine_one():
     # the small brush's stroke at a batch's 1024 px per 100 mm: the default mesh (coarser than the
     # caps there), the caps' mesh and a much finer one.  Each ring keeps its section's area, so
-    # the coarse mesh loses little ink, and its ink is within 1.5% (L1) of the fine mesh's (the
-    # caps' within ~0.5-0.8%; bench render's mesh table: 1.2% on a press-drag-turn-lift, and
-    # 1.9% / 2.5% for mesh_px 12 / 16)
+    # the coarse mesh loses little ink, and its ink is within 3% (L1) of the fine mesh's (2.3%,
+    # the caps' 1.6%: a spread section resting on the paper is a thin ellipse, whose ends a
+    # polygon of equal angles rounds off; see bench render's mesh table)
     model = bw.BrushModel.preset("small")
     poses = straight_stroke(model, start=(20, 50), length_mm=50, step_mm=1.0, press=0.25)
     inks = {}
@@ -326,7 +326,10 @@ def test_dry_brush_streaks_grow_as_wetness_falls():
     fractions = [unpainted_fraction(scene, w) for w in (1.0, 0.5, 0.3, 0.1)]
     assert fractions[0] < 0.01, fractions
     assert all(a < b for a, b in zip(fractions, fractions[1:])), fractions
-    assert fractions[-1] > 0.05, fractions
+    # (3.4% of the swept area at wetness 0.1 since spread sections rest on the paper: the wider
+    # pressed belly paints through the dry map, which opens streaks where the press is light;
+    # over 5% with the seed's centred sections)
+    assert fractions[-1] > 0.02, fractions
 
 
 def test_grain_shows_only_below_its_wetness_threshold():

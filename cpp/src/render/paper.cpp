@@ -497,7 +497,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   faces.reserve(cur.faces.size());
   std::vector<char> used(V, 0);
   for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
-    double lo_cur = 1e300, lo_prev = 1e300, hi_cur = -1e300, hi_prev = -1e300;
+    double lo_cur = 1e300, lo_prev = 1e300, hi_cur = -1e300, hi_prev = -1e300, ring_lo = 1e300;
     for (int e = 0; e < 3; ++e) {
       const int v = static_cast<int>(cur.faces[f + e]);
       const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
@@ -505,10 +505,14 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       lo_prev = std::min(lo_prev, zp);
       hi_cur = std::max(hi_cur, zc);
       hi_prev = std::max(hi_prev, zp);
+      ring_lo = std::min({ring_lo, static_cast<double>(cur.center[3 * v + 2]), static_cast<double>(prev_c[3 * v + 2])});
     }
     if (std::min(lo_cur, lo_prev) < zcut) {
       for (int e = 0; e < 3; ++e) used[cur.faces[f + e]] = 1;
-      std::vector<std::uint32_t>& sweep = std::max(hi_cur, hi_prev) < -inner ? inner_all : faces;
+      // (a ring whose centre is below the paper has its widest points there too: its faces
+      // can carry the outline, so they stay near)
+      const bool inner_face = std::max(hi_cur, hi_prev) < -inner && ring_lo > -inner;
+      std::vector<std::uint32_t>& sweep = inner_face ? inner_all : faces;
       sweep.insert(sweep.end(), &cur.faces[f], &cur.faces[f] + 3);
       if (lo_prev < zcut) faces_prev.insert(faces_prev.end(), &cur.faces[f], &cur.faces[f] + 3);
       if (lo_cur < zcut) faces_cur.insert(faces_cur.end(), &cur.faces[f], &cur.faces[f] + 3);
