@@ -170,6 +170,14 @@ def test_batch_names_resumes_and_reports_failures(tmp_path, capsys):
     assert not list(out.glob(".brushwork-*"))        # no temporary file left behind
 
 
+def test_batch_writes_its_sheet_inside_an_out_folder_it_makes(tmp_path, capsys):
+    out = tmp_path / "new" / "out"                   # neither folder exists yet
+    rc = run_cli("batch", "--chars", "永", "--out", out, "--size", 64, "--jobs", 1, "--source", MMAH,
+                 "--sheet", out / "sheet.png", "--no-progress")
+    assert rc == 0, capsys.readouterr()
+    assert cv2.imread(str(out / "sheet.png")) is not None and (out / "U+6C38.png").is_file()
+
+
 def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path):
     res = batch.BatchResult(written=["永"], failed=[(chr(0x4E00 + k), "no glyph") for k in range(25)])
     path = batch.write_failures(res, tmp_path)

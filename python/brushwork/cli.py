@@ -219,6 +219,8 @@ def _batch(args: argparse.Namespace) -> int:
     if args.sheet:
         from .bench.report import check_writable
 
+        # the batch makes its --out folder anyway; made first, a sheet inside it checks as writable
+        os.makedirs(args.out, exist_ok=True)
         check_writable(args.sheet)
     # a batch stopped by SIGTERM (a scheduler's kill, `timeout`) ends like Ctrl-C: workers stopped,
     # the summary printed; finished files are whole (atomic writes) and a rerun resumes
