@@ -17,7 +17,7 @@ using Vec2 = Eigen::Vector2d;
 // n is the unit normal of that plane pointing from root toward tip.  (u, w, n) are orthonormal
 // but their handedness is not promised: code must not rely on it.
 struct Section {
-  Vec3 center = Vec3::Zero();  // O_i, mm
+  Vec3 center = Vec3::Zero();  // mm: O_i, moved toward the paper by r_i - c_i when spread (Brush::sections)
   Vec3 u = Vec3::UnitX();      // unit major axis = lateral line of N_i
   Vec3 w = Vec3::UnitY();      // unit minor axis, in the bisecting plane, w perpendicular to u
   Vec3 n = -Vec3::UnitZ();     // unit normal of the section plane, toward the tip
