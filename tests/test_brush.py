@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import brushwork as bw
-from brushwork.motions import pressed_drag, press_drag_turn_lift, replay
+from brushwork.motions import pressed_drag, press_drag_turn_lift, replay, straight_stroke
 from tolerances import (DRAG_WIDTH_PER_DIAMETER, FOOTPRINT_DEPTHS, FOOTPRINT_DIP, PENETRATION_FRAC,
                         STRAIGHT_ANGLE)
 
@@ -261,8 +261,6 @@ def test_a_spread_section_rests_on_the_paper():
     # the next section (a small brush dragged at 0.26-0.36 L kept 4.7 mm while its belly section
     # spread to 7.5).  Every pressed section (its round rest section reaching into the paper)
     # touches the paper, with its widest points not below it, and the footprint keeps widening
-    from brushwork.motion import _centroid_and_width
-    from brushwork.motions import straight_stroke
     m = bw.BrushModel.preset("small")
     widths = []
     for press in (0.28, 0.34):
@@ -277,5 +275,5 @@ def test_a_spread_section_rests_on_the_paper():
         for i in pressed:
             assert sec[i, 2] - sec[i, 14] <= 1e-6, (i, sec[i, 2], sec[i, 14])   # lowest point on the paper
             assert sec[i, 2] >= -1e-9, (i, sec[i, 2])                            # centre not below it
-        widths.append(_centroid_and_width(b.footprint(), 0.0)[1])
+        widths.append(bw._core.footprint_span(b.footprint(), 0.0)[1])   # width across the drag (+x)
     assert widths[1] > 1.1 * widths[0], widths
