@@ -446,8 +446,12 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     const double grow = 1.0 + soak * t * t * (3.0 - 2.0 * t);
     return ctr[3 * v + d] + (pos[3 * v + d] - ctr[3 * v + d]) * grow;
   };
+  // this deposit's surface so placed, (V, 3) mm; the last deposit's below, once it is known
+  std::vector<double> pc(3 * static_cast<std::size_t>(V)), pp;
+  for (int v = 0; v < V; ++v)
+    for (int d = 0; d < 3; ++d) pc[3 * v + d] = placed(cur.position, cur.center, v, d);
   double zmin = 1e300;
-  for (int v = 0; v < V; ++v) zmin = std::min(zmin, placed(cur.position, cur.center, v, 2));
+  for (int v = 0; v < V; ++v) zmin = std::min(zmin, pc[3 * v + 2]);
   stats.contact = zmin < 0.0;
   if (!stats.contact) {
     // the brush left the paper: the stroke ends here
@@ -472,6 +476,9 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   stroke_color_ = color;
   const std::vector<float>& prev = last_vertices_;
   const std::vector<float>& prev_c = last_centers_;
+  pp.resize(pc.size());
+  for (int v = 0; v < V; ++v)
+    for (int d = 0; d < 3; ++d) pp[3 * v + d] = placed(prev, prev_c, v, d);
 
   // the triangles that can reach the paper at some point of the sweep (half a pixel of
   // antialiasing above it included), their pixel bounds and the largest travel; and those that
@@ -500,7 +507,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     double lo_cur = 1e300, lo_prev = 1e300, hi_cur = -1e300, hi_prev = -1e300, ring_lo = 1e300;
     for (int e = 0; e < 3; ++e) {
       const int v = static_cast<int>(cur.faces[f + e]);
-      const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
+      const double zc = pc[3 * v + 2], zp = pp[3 * v + 2];
       lo_cur = std::min(lo_cur, zc);
       lo_prev = std::min(lo_prev, zp);
       hi_cur = std::max(hi_cur, zc);
@@ -536,16 +543,16 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     b[0] = std::min(b[0], x), b[1] = std::min(b[1], y), b[2] = std::max(b[2], x), b[3] = std::max(b[3], y);
   };
   for (int v = 0; v < V; ++v) {
-    const double zc = placed(cur.position, cur.center, v, 2), zp = placed(prev, prev_c, v, 2);
+    const double zc = pc[3 * v + 2], zp = pp[3 * v + 2];
     if (zc < 0.0) {
-      const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
+      const double x = pc[3 * v], y = pc[3 * v + 1];
       wc -= zc;
       ccx -= zc * x;
       ccy -= zc * y;
       grow(cb, x, y);
     }
     if (zp < 0.0) {
-      const double x = placed(prev, prev_c, v, 0), y = placed(prev, prev_c, v, 1);
+      const double x = pp[3 * v], y = pp[3 * v + 1];
       wp -= zp;
       pcx -= zp * x;
       pcy -= zp * y;
@@ -571,20 +578,19 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       e[0] = std::min(e[0], a), e[1] = std::max(e[1], a), e[2] = std::min(e[2], b), e[3] = std::max(e[3], b);
     };
     for (int v = 0; v < V; ++v) {
-      if (placed(cur.position, cur.center, v, 2) < 0.0)
-        extend(cext, placed(cur.position, cur.center, v, 0), placed(cur.position, cur.center, v, 1));
-      if (placed(prev, prev_c, v, 2) < 0.0) extend(pext, placed(prev, prev_c, v, 0), placed(prev, prev_c, v, 1));
+      if (pc[3 * v + 2] < 0.0) extend(cext, pc[3 * v], pc[3 * v + 1]);
+      if (pp[3 * v + 2] < 0.0) extend(pext, pp[3 * v], pp[3 * v + 1]);
     }
   }
   for (int v = 0; v < V; ++v) {
     if (!used[v]) continue;
-    const double x = placed(cur.position, cur.center, v, 0), y = placed(cur.position, cur.center, v, 1);
-    const double px = placed(prev, prev_c, v, 0), py = placed(prev, prev_c, v, 1);
+    const double x = pc[3 * v], y = pc[3 * v + 1];
+    const double px = pp[3 * v], py = pp[3 * v + 1];
     bx0 = std::min({bx0, x, px});
     by0 = std::min({by0, y, py});
     bx1 = std::max({bx1, x, px});
     by1 = std::max({by1, y, py});
-    if (placed(cur.position, cur.center, v, 2) < zcut) {
+    if (pc[3 * v + 2] < zcut) {
       cx0 = std::min(cx0, x);
       cy0 = std::min(cy0, y);
       cx1 = std::max(cx1, x);
