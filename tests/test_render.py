@@ -230,6 +230,32 @@ def test_straight_strokes_stay_connected_at_any_drag_speed(radii_per_frame):
     assert cols.max() - cols.min() >= 0.9 * length
 
 
+def test_the_parts_are_slid_only_where_the_blend_breaks():
+    # a steady drag at 3 belly radii a frame: the blended surface stays pressed and as wide all
+    # the way, so the blends alone leave the band (before, 51 of its 59 deposits also slid both
+    # parts, ~40 copies each, because the footprint moved more than half its width a frame)
+    model = bw.BrushModel.preset("small")
+    L = model.tuft_length
+    paper = bw.Paper(400, 40, 10)
+    stats = draw(paper, bw.Brush(model), straight_stroke(model, start=(15, 15), length_mm=300,
+                                                         step_mm=3 * model.belly_radius, press=0.3))
+    steady = [s for s in stats if s.contact][20:-5]
+    assert len(steady) >= 30 and all(s.slides == 0 for s in steady), [s.slides for s in steady]
+    assert cv2.connectedComponents(mask(paper).astype(np.uint8), connectivity=8)[0] - 1 == 1
+    # pressed 0.3 L, then in one frame moved `jump` mm and lifted to a touch 0.05 L deep: the
+    # blend between a pressed blob and a light touch lifts off halfway, and the slid parts
+    # keep the ink in one piece
+    for tilt, jump in ((0.0, 6.0), (20.0, 12.0)):
+        paper = bw.Paper(120, 40, 10)
+        cz = L * math.cos(math.radians(tilt))
+        poses = [bw.Pose((15.0, 15.0, cz + 0.1 * L - (k + 1) / 10 * 0.4 * L), tilt, 0.0) for k in range(10)]
+        poses += [bw.Pose((15.0 + jump, 15.0, cz - 0.05 * L), tilt, 0.0)]
+        stats = draw(paper, bw.Brush(model), poses)
+        assert stats[-1].contact and stats[-1].slides > 0, (tilt, jump)
+        count, _ = cv2.connectedComponents(mask(paper).astype(np.uint8), connectivity=8)
+        assert count - 1 == 1, f"{count - 1} ink pieces at tilt {tilt}, jump {jump} mm"
+
+
 def test_blended_footprints_are_close_enough_to_leave_no_saw_teeth():
     # a 2 mm-a-frame drag at 10 px/mm: 20 px between deposits.  The footprint has corners, and
     # a corner moved in steps of d leaves a staircase up to d/2 deep along a slanted edge, so
