@@ -178,6 +178,19 @@ def test_batch_writes_its_sheet_inside_an_out_folder_it_makes(tmp_path, capsys):
     assert cv2.imread(str(out / "sheet.png")) is not None and (out / "U+6C38.png").is_file()
 
 
+def test_a_cleared_paper_writes_what_a_new_one_does(mmah_glyphs):
+    # a batch worker keeps one paper and clears it for each character: nothing of the last
+    # character may show in the next (ink, the stroke layer, its kept alpha, undo)
+    a, b = list(mmah_glyphs.values())[:2]
+    fresh = batch.text_paper([b], 96, "kai", seed=3).image()
+    kept = batch.text_paper([a], 96, "kai", seed=3)
+    kept.clear()
+    assert not kept.undo() and kept.image().min() == 255
+    assert np.array_equal(batch.text_paper([b], 96, "kai", seed=3, paper=kept).image(), fresh)
+    with pytest.raises(ValueError, match="cannot take 2"):
+        batch.text_paper([a, b], 96, "kai", paper=kept)
+
+
 def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path):
     res = batch.BatchResult(written=["永"], failed=[(chr(0x4E00 + k), "no glyph") for k in range(25)])
     path = batch.write_failures(res, tmp_path)

@@ -505,6 +505,35 @@ def test_png_round_trip(tmp_path, bits, background):
     assert not any(p.name.startswith(".brushwork-") for p in tmp_path.iterdir())
 
 
+def _numpy_image(rgba: np.ndarray, bits: int, background: str) -> np.ndarray:
+    """The image by numpy's float32 ufuncs: premultiplied ink over white (c + 1 - a) or straight."""
+    rgba = np.clip(rgba, 0.0, 1.0)
+    alpha = rgba[..., 3:4]
+    if background == "white":
+        out = rgba[..., :3] - alpha + np.float32(1.0)
+    else:
+        straight = np.divide(rgba[..., :3], alpha, out=np.zeros_like(rgba[..., :3]), where=alpha > 1e-6)
+        out = np.concatenate([straight, alpha], axis=2)
+    out = np.rint(np.clip(out, 0.0, 1.0) * np.float32(255 if bits == 8 else 65535))
+    return out.astype(np.uint8 if bits == 8 else np.uint16)
+
+
+@pytest.mark.parametrize("bits, background", [(8, "white"), (8, "transparent"), (16, "white"), (16, "transparent")])
+def test_the_image_is_the_float_paper_rounded(bits, background):
+    # the core converts in one pass; it must give numpy's bytes, coloured and faint ink included
+    model = bw.BrushModel.preset("small")
+    paper = bw.Paper(40, 30, 8)
+    draw(paper, bw.Brush(model), straight_stroke(model, start=(8, 15), length_mm=25))
+    rgba = paper.rgba()
+    rgba[:20, :30] = [0.2, 0.1, 0.05, 0.4]           # a brown half-transparent patch
+    rgba[20:25, :30] = [0.0, 0.0, 0.0, 5e-7]         # below the straight-alpha cut
+    paper.set_rgba(rgba)
+    img = paper.image(bits, background)
+    assert img.dtype == (np.uint8 if bits == 8 else np.uint16)
+    assert np.array_equal(img, _numpy_image(paper.rgba(), bits, background))
+    assert img[:20, :30, 0].min() > img[:20, :30, 2].max() or background == "transparent"
+
+
 def test_load_rejects_a_wrong_size_and_save_a_missing_folder(tmp_path):
     paper = bw.Paper(40, 30, 8)
     path = paper.save(tmp_path / "p.png")

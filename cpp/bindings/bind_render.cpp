@@ -129,6 +129,15 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
         p.read_rgba(a.mutable_data());
         return a;
       }, "(H, W, 4) float32 premultiplied RGBA, row 0 at the top")
+      .def("_image", [](Paper& p, int bits, bool white, bool bgr) -> py::array {
+        if (bits != 8 && bits != 16) throw std::invalid_argument("bits = " + std::to_string(bits) + ": expected 8 or 16");
+        const std::vector<py::ssize_t> shape{p.height_px(), p.width_px(), white ? 3 : 4};
+        py::array a = bits == 8 ? py::array(py::dtype::of<std::uint8_t>(), shape)
+                                : py::array(py::dtype::of<std::uint16_t>(), shape);
+        p.read_image(bits, white, bgr, a.mutable_data());
+        return a;
+      }, py::arg("bits"), py::arg("white"), py::arg("bgr"),
+      "(H, W, 3) ink over white or (H, W, 4) straight RGBA, uint8 or uint16, row 0 at the top")
       .def("set_rgba", [](Paper& p, const FloatImage& a) {
         if (a.ndim() != 3 || a.shape(0) != p.height_px() || a.shape(1) != p.width_px() || a.shape(2) != 4)
           throw std::invalid_argument("set_rgba: expected a (" + std::to_string(p.height_px()) + ", " +

@@ -171,6 +171,10 @@ class Paper {
   void read_rgba(float* out);
   // (H, W) ink coverage float32, row 0 at the top
   void read_ink(float* out);
+  // the paper as an image, row 0 at the top: (H, W, 3) ink over white (white = true) or (H, W, 4)
+  // straight RGBA (ink on transparency), channels in RGB(A) order or, with bgr, OpenCV's BGR(A);
+  // `out` holds uint8 (bits = 8) or uint16 (bits = 16) values, rounded to nearest (ties to even)
+  void read_image(int bits, bool white, bool bgr, void* out);
   // replace the paper by (H, W, 4) premultiplied RGBA, row 0 at the top (undo forgets)
   void write_rgba(const float* in);
 

@@ -210,12 +210,14 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
     counters: dict = {}
     frames = 0
     t0 = time.perf_counter()
+    paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
+    deposit = paper.deposit
+    paper.deposit = _Timed(deposit, "deposit", counters)
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
-            paper = writing_paper(st, size, samples=samples)
+            paper.clear()
             writer = Writer(paper, st, k)
             writer.brush.step = _Timed(writer.brush.step, "step", counters)
-            paper.deposit = _Timed(paper.deposit, "deposit", counters)
             writer.write(glyph)
             frames += writer.frames
             ts = time.perf_counter()
