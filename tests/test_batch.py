@@ -191,6 +191,17 @@ def test_a_cleared_paper_writes_what_a_new_one_does(mmah_glyphs):
         batch.text_paper([a, b], 96, "kai", paper=kept)
 
 
+def test_bench_batch_reports_a_rate_and_where_the_time_goes(tmp_path, capsys):
+    out = tmp_path / "batch.json"
+    assert run_cli("bench", "batch", "--source", MMAH, "--count", 3, "--size", 64, "--jobs", 1, "--json", out) == 0
+    res = json.loads(out.read_text())
+    assert res["characters"] == 3 and not res["failed"] and res["chars_per_s"] > 0
+    parts = res["breakdown"]["parts"]
+    assert {"deposit", "step", "save"} <= set(parts) and all(v >= 0 for v in parts.values())
+    assert res["breakdown"]["frames"] > 0 and parts["deposit"] > 0 and parts["step"] > 0
+    assert "characters/s" in capsys.readouterr().out
+
+
 def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path):
     res = batch.BatchResult(written=["永"], failed=[(chr(0x4E00 + k), "no glyph") for k in range(25)])
     path = batch.write_failures(res, tmp_path)

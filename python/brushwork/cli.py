@@ -3,7 +3,7 @@
     brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent]
     brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
-    brushwork bench batch [--source SPEC] [--count 40] [--size 1024] [--jobs 2] [--json FILE]
+    brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
@@ -269,7 +269,9 @@ def _bench_glyphs(args: argparse.Namespace) -> int:
 
 def _bench_batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--source", default="default", help=SOURCE_HELP)
-    p.add_argument("--count", type=int, default=40, help="characters, spread over GB2312 (default 40)")
+    p.add_argument("--count", type=int, default=200,
+                   help="characters, spread over GB2312 (default 200: a sample of the set's mix of simple and "
+                        "busy characters, long enough that the workers' start-up weighs as little as in a real batch)")
     p.add_argument("--size", type=int, default=1024, help="px per character (default 1024)")
     p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")

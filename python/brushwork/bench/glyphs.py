@@ -228,7 +228,7 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
     return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
 
 
-def run_batch_bench(source: str = "default", count: int = 40, size: int = 1024, jobs: int = 2,
+def run_batch_bench(source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
                     style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
     across the set (those the source has), then one process's time breakdown on a few of them."""
