@@ -211,8 +211,7 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
     frames = 0
     t0 = time.perf_counter()
     paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
-    deposit = paper.deposit
-    paper.deposit = _Timed(deposit, "deposit", counters)
+    paper.deposit = _Timed(paper.deposit, "deposit", counters)
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
             paper.clear()
