@@ -170,6 +170,29 @@ def test_batch_names_resumes_and_reports_failures(tmp_path, capsys):
     assert not list(out.glob(".brushwork-*"))        # no temporary file left behind
 
 
+def test_batch_fills_one_sources_gaps_from_the_next(tmp_path, capsys):
+    # 人 only in the KanjiVG folder, 永 only in the Make Me a Hanzi file, X in neither
+    chain = f"kanjivg:{DATA / 'kanjivg'}+{MMAH}"
+    out = tmp_path / "out"
+    rc = run_cli("batch", "--chars", "人永X", "--out", out, "--size", 48, "--jobs", 1, "--source", chain,
+                 "--no-progress")
+    captured = capsys.readouterr().out
+    assert rc == 2 and "2 written, 0 already there, 1 failed" in captured
+    assert sorted(p.name for p in out.iterdir()) == ["U+4EBA.png", "U+6C38.png", "failed.txt"]
+    assert f"in any of kanjivg:{DATA / 'kanjivg'}, {MMAH}" in (out / "failed.txt").read_text(encoding="utf-8")
+
+
+def test_batches_in_one_process_each_get_a_paper_of_their_own(tmp_path):
+    # --jobs 1 renders in this process, where a worker's kept paper would outlive its batch
+    for size, samples in ((48, 1), (64, 1), (64, 4)):
+        out = tmp_path / f"out{size}-{samples}"
+        res = batch.run_batch("永", out, source=MMAH, jobs=1, size=size, samples=samples, progress=False)
+        assert not res.failed and res.written == ["永"]
+        assert cv2.imread(str(out / "U+6C38.png")).shape[:2] == (size, size)
+    one, four = (cv2.imread(str(tmp_path / f"out64-{n}" / "U+6C38.png")) for n in (1, 4))
+    assert not np.array_equal(one, four)          # the multisampled batch did not reuse the other's paper
+
+
 def test_batch_writes_its_sheet_inside_an_out_folder_it_makes(tmp_path, capsys):
     out = tmp_path / "new" / "out"                   # neither folder exists yet
     rc = run_cli("batch", "--chars", "永", "--out", out, "--size", 64, "--jobs", 1, "--source", MMAH,

@@ -106,6 +106,9 @@ _JOB: dict = {}
 
 
 def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None) -> None:
+    # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
+    # size and scene: drop it
+    _JOB.clear()
     _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
                 samples=samples)
 
