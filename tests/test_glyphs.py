@@ -2,6 +2,7 @@
 stroke-type inference, and a clear GlyphError ("FILE: problem") for every kind of bad input."""
 import json
 import math
+import re
 import shutil
 from importlib import metadata
 from pathlib import Path
@@ -295,6 +296,35 @@ def test_unknown_characters_and_sources(tmp_path):
     shutil.copy(GLYPHS / "U+6C38.json", tmp_path / "U+548C.json")   # 永 in 和's file
     with pytest.raises(GlyphError, match="holds '永', but its name says '和'"):
         load_source(f"glyphs:{tmp_path}", "和")
+
+
+def test_a_chain_of_sources_takes_each_character_from_the_first_that_has_it(tmp_path):
+    chain = f"kanjivg:{KANJIVG}+mmah:{GRAPHICS}"
+    got = load_source(chain, "人永")
+    assert list(got) == ["人", "永"]
+    assert got["人"].source.startswith("kanjivg:") and got["永"].source == f"mmah:{GRAPHICS}"
+    # in order: the same character from an earlier source wins
+    mine = tmp_path / "mine+more"                   # a '+' inside a path stays in the path
+    mine.mkdir()
+    shutil.copy(GLYPHS / "U+6C38.json", mine / "U+6C38.json")
+    both = load_source(f"glyphs:{mine}+mmah:{GRAPHICS}", "永和")
+    assert both["永"].source.startswith("glyphs:") and both["和"].source.startswith("mmah:")
+    # every glyph of every source, when no characters are asked for
+    assert set(load_source(chain)) == set(load_source(f"mmah:{GRAPHICS}")) | {"人"}
+    # a character in none of them: one error naming the chain and each source
+    with pytest.raises(GlyphError, match="^" + re.escape(f"{chain}: no glyph for 'X' (U+0058) in any of kanjivg:{KANJIVG}, mmah:")):
+        load_source(chain, "人X")
+    errors = []
+    assert list(load_source(chain, "X永", errors=errors)) == ["永"] and len(errors) == 1
+    # a file a source has but cannot read is reported, not replaced by the next source's glyph
+    (mine / "U+6C38.json").write_text("{not json", encoding="utf-8")
+    errors = []
+    assert list(load_source(f"glyphs:{mine}+mmah:{GRAPHICS}", "永和", errors=errors)) == ["和"]
+    assert len(errors) == 1 and "malformed JSON" in str(errors[0])
+    with pytest.raises(GlyphError, match="no such file or folder"):
+        load_source(f"mmah:{GRAPHICS}+fontforge", "永")   # no source kind after '+': part of the path
+    with pytest.raises(GlyphError, match="^fontforge: unknown source"):
+        load_source(f"fontforge+mmah:{GRAPHICS}", "永")
 
 
 def test_bad_kanjivg_files(tmp_path):

@@ -143,7 +143,8 @@ def _precision(args: argparse.Namespace) -> int:
 
 # rendering characters: render, batch, bench glyphs, bench batch
 SOURCE_HELP = ("where the strokes come from: default (the bundled glyphs, then KanjiVG when installed), "
-               "kanjivg, kanjivg:DIR, mmah:PATH or glyphs:DIR")
+               "kanjivg, kanjivg:DIR, mmah:PATH or glyphs:DIR; several joined by + take each character "
+               "from the first that has it (default+mmah:PATH)")
 
 
 def _look_args(p: argparse.ArgumentParser, size: int = 1024) -> None:

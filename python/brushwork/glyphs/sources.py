@@ -7,8 +7,23 @@ from . import kanjivg, mmah
 from .jsonfmt import load_glyph
 from .model import Glyph, GlyphError
 
-SPECS = "default, kanjivg, kanjivg:DIR, mmah:PATH (graphics.txt or a folder of <char>.json) or glyphs:DIR"
+SPECS = ("default, kanjivg, kanjivg:DIR, mmah:PATH (graphics.txt or a folder of <char>.json) or glyphs:DIR, "
+         "or several joined by + (each character from the first that has it)")
 DEFAULT = "default"
+KINDS = ("default", "kanjivg", "mmah", "glyphs")
+
+
+def split_sources(spec: str) -> list[str]:
+    """'kanjivg+mmah:PATH' -> ['kanjivg', 'mmah:PATH']. A '+' starts another source only where a
+    source's kind follows it (default, kanjivg, mmah or glyphs), so a path may hold a '+'."""
+    parts: list[str] = []
+    for piece in spec.split("+"):
+        kind = piece.split(":", 1)[0].split("#", 1)[0]
+        if parts and kind not in KINDS:
+            parts[-1] += "+" + piece
+        else:
+            parts.append(piece)
+    return parts
 
 
 def bundled_dir() -> Path:
@@ -42,9 +57,8 @@ def _load_default(chars, variant, errors) -> dict[str, Glyph]:
             rest = load_source("kanjivg", unknown if wanted is not None else None, variant=variant, errors=bad)
             out.update({c: g for c, g in rest.items() if c not in out})
         else:
-            bad += [GlyphError("default", f"no glyph for {c!r} (U+{ord(c):04X}) among the bundled ones; "
-                                          "pip install 'brushwork[kanjivg]' for about 6,400 more, or pass "
-                                          "--source") for c in unknown]
+            bad += [_unknown("default", c, "among the bundled ones; pip install 'brushwork[kanjivg]' for "
+                                           "about 6,400 more, or pass --source") for c in unknown]
     if bad:
         if errors is None:
             raise bad[0]
@@ -57,10 +71,37 @@ def glyph_file_name(char: str) -> str:
     return f"U+{ord(char):04X}.json"
 
 
-def _unknown(where, char: str) -> GlyphError:
-    err = GlyphError(where, f"no glyph for {char!r} (U+{ord(char):04X})")
-    err.char = char                      # the default source falls back to KanjiVG for these
+def _unknown(where, char: str, detail: str = "") -> GlyphError:
+    err = GlyphError(where, f"no glyph for {char!r} (U+{ord(char):04X})" + (f" {detail}" if detail else ""))
+    err.char = char                      # the default source falls back to KanjiVG for these,
+    err.unknown = True                   # and a chain of sources to the next one
     return err
+
+
+def _load_chain(spec: str, parts: list[str], chars, variant, errors) -> dict[str, Glyph]:
+    """Sources joined by '+': each character from the first source that has it. A character
+    that a source has but cannot read (a malformed file) is reported, not looked up further."""
+    wanted = None if chars is None else list(dict.fromkeys(chars))
+    out: dict[str, Glyph] = {}
+    bad: list = []
+    todo = wanted
+    for part in parts:
+        if todo is not None and not todo:
+            break
+        missing: list = []
+        got = load_source(part, todo, variant=variant, errors=missing)
+        out.update({c: g for c, g in got.items() if c not in out})
+        failed = [e for e in missing if not getattr(e, "unknown", False)]
+        bad += failed
+        if todo is not None:
+            gone = {getattr(e, "char", None) for e in failed}
+            todo = [c for c in todo if c not in out and c not in gone]
+    bad += [_unknown(spec, c, f"in any of {', '.join(parts)}") for c in todo or []]
+    if bad:
+        if errors is None:
+            raise bad[0]
+        errors.extend(bad)
+    return out if wanted is None else {c: out[c] for c in wanted if c in out}
 
 
 def _from_folder(folder: Path, wanted, name_of, read):
@@ -108,13 +149,17 @@ def load_source(spec: str, chars: str | None = None, *, variant: str | None = No
 
     spec: "default" (the bundled glyph files, then KanjiVG when installed), "kanjivg" (the installed kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs),
     "mmah:PATH" (a graphics.txt file, or a folder of hanzi-writer-data <char>.json files) or
-    "glyphs:DIR" (our format, files named U+XXXX.json). variant: a KanjiVG variant such as "Kaisho",
+    "glyphs:DIR" (our format, files named U+XXXX.json), or several of these joined by "+" (each
+    character from the first that has it: "kanjivg+mmah:PATH" fills KanjiVG's gaps). variant: a KanjiVG variant such as "Kaisho",
     used where a character has one (the plain file otherwise); "kanjivg#Kaisho" says the same.
     A bad or unknown character raises GlyphError naming the file or source; pass a list as errors
     to collect those errors there and go on with the other characters instead.
     """
     if not isinstance(spec, str):
         raise GlyphError(repr(spec), f"unknown source; expected {SPECS}")
+    parts = split_sources(spec)
+    if len(parts) > 1:
+        return _load_chain(spec, parts, chars, variant, errors)
     if spec == DEFAULT:
         return _load_default(chars, variant, errors)
     wanted = None if chars is None else list(dict.fromkeys(chars))
