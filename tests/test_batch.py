@@ -180,6 +180,7 @@ def test_batch_fills_one_sources_gaps_from_the_next(tmp_path, capsys):
     assert rc == 2 and "2 written, 0 already there, 1 failed" in captured
     assert sorted(p.name for p in out.iterdir()) == ["U+4EBA.png", "U+6C38.png", "failed.txt"]
     assert f"in any of kanjivg:{DATA / 'kanjivg'}, {MMAH}" in (out / "failed.txt").read_text(encoding="utf-8")
+    assert "1 character(s) are in none of the source's glyphs: add a source after a +" in captured
 
 
 def test_batches_in_one_process_each_get_a_paper_of_their_own(tmp_path):

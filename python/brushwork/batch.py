@@ -136,6 +136,7 @@ class BatchResult:
     failed: list = field(default_factory=list)     # (char, one-line reason)
     seconds: float = 0.0
     interrupted: bool = False
+    unknown: int = 0                               # of the failed, characters no source had
 
     @property
     def chars_per_s(self) -> float:
@@ -195,6 +196,7 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     errors: list = []
     glyphs = load_source(source, "".join(todo), variant=variant, errors=errors) if todo else {}
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
+    result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
     bar = Progress(len(tasks)) if progress and tasks else None
     t0 = time.perf_counter()
@@ -296,4 +298,7 @@ def summary(result: BatchResult, failures_file: Path | None = None) -> str:
                      + (f": every failure is listed in {failures_file}" if failures_file else ""))
     elif failures_file:
         lines.append(f"  (also listed in {failures_file})")
+    if result.unknown:
+        lines.append(f"  {result.unknown} character(s) are in none of the source's glyphs: add a source after a +, "
+                     "e.g. --source default+mmah:graphics.txt (Make Me a Hanzi has over 9,000)")
     return "\n".join(lines)
