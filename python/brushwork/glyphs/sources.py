@@ -147,10 +147,11 @@ def load_source(spec: str, chars: str | None = None, *, variant: str | None = No
                 errors: list | None = None) -> dict[str, Glyph]:
     """{char: Glyph} for the requested chars (every glyph the source has when chars is None).
 
-    spec: "default" (the bundled glyph files, then KanjiVG when installed), "kanjivg" (the installed kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs),
-    "mmah:PATH" (a graphics.txt file, or a folder of hanzi-writer-data <char>.json files) or
-    "glyphs:DIR" (our format, files named U+XXXX.json), or several of these joined by "+" (each
-    character from the first that has it: "kanjivg+mmah:PATH" fills KanjiVG's gaps). variant: a KanjiVG variant such as "Kaisho",
+    spec: "default" (the bundled glyph files, then KanjiVG when installed), "kanjivg" (the installed
+    kanjivg package), "kanjivg:DIR" (a folder of KanjiVG SVGs), "mmah:PATH" (a graphics.txt file, or
+    a folder of hanzi-writer-data <char>.json files) or "glyphs:DIR" (our format, files named
+    U+XXXX.json), or several of these joined by "+" (each character from the first that has it:
+    "kanjivg+mmah:PATH" fills KanjiVG's gaps). variant: a KanjiVG variant such as "Kaisho",
     used where a character has one (the plain file otherwise); "kanjivg#Kaisho" says the same.
     A bad or unknown character raises GlyphError naming the file or source; pass a list as errors
     to collect those errors there and go on with the other characters instead.
