@@ -129,7 +129,8 @@ def test_render_bad_glyph_file_is_one_line_exit_2_no_file(tmp_path, capsys, text
 
 def test_render_unknown_character_and_unwritable_output(tmp_path, capsys):
     assert run_cli("render", "十", "-o", tmp_path / "a.png", "--source", f"glyphs:{tmp_path}") == 2
-    assert "no glyph for '十' (U+5341)" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert "no glyph for '十' (U+5341)" in err and f"--source glyphs:{tmp_path}+mmah:" in err, err
     assert run_cli("render", "永", "-o", tmp_path / "missing" / "a.png") == 2
     assert "no such folder" in capsys.readouterr().err
     locked = tmp_path / "locked"
@@ -301,6 +302,13 @@ def test_default_source_bundled_then_kanjivg(monkeypatch):
     monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
     with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
         load_source("default", "鬱")
+    # with KanjiVG there (a stand-in folder), a character in neither place is one error of the
+    # default source that says where it looked and how to add a source
+    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: True)
+    monkeypatch.setattr(glyph_sources.kanjivg, "package_dir", lambda: DATA / "kanjivg")
+    errors: list = []
+    assert set(load_source("default", "永鬱", errors=errors)) == {"永"}
+    assert [str(e) for e in errors] == ["default: no glyph for '鬱' (U+9B31) among the bundled glyphs or in KanjiVG"]
 
 
 def test_batch_stopped_by_sigterm_keeps_whole_files_and_resumes(tmp_path):

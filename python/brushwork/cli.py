@@ -176,7 +176,7 @@ def _render_text_args(p: argparse.ArgumentParser) -> None:
 def _render_text(args: argparse.Namespace) -> int:
     from .batch import check_bits, check_samples, check_size, parse_charset, text_paper
     from .bench.report import check_writable
-    from .glyphs import load_source
+    from .glyphs import GlyphError, load_source
     from .motion import Style
 
     chars = parse_charset(args.text)
@@ -187,7 +187,13 @@ def _render_text(args: argparse.Namespace) -> int:
     check_samples(args.samples)
     style = Style.load(args.style)
     check_writable(args.output)                   # before the work, not after
-    glyphs = load_source(args.source, chars)      # an unknown character: GlyphError naming the source
+    try:
+        glyphs = load_source(args.source, chars)  # an unknown character: GlyphError naming the source
+    except GlyphError as err:
+        if getattr(err, "unknown", False):        # say how to add one (batch says it in its summary)
+            raise ValueError(f"{err}; add a source after a +, e.g. --source {args.source}+mmah:graphics.txt "
+                             "(Make Me a Hanzi has over 9,000)") from err
+        raise
     t0 = time.perf_counter()
     paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples)
     path = paper.save(args.output, bits=args.bits, background="transparent" if args.transparent else "white")

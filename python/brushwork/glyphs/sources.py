@@ -54,8 +54,14 @@ def _load_default(chars, variant, errors) -> dict[str, Glyph]:
     bad = [e for e in missing if not getattr(e, "char", None)]
     if wanted is None or unknown:
         if _kanjivg_installed():
-            rest = load_source("kanjivg", unknown if wanted is not None else None, variant=variant, errors=bad)
+            kv: list = []
+            rest = load_source("kanjivg", unknown if wanted is not None else None, variant=variant, errors=kv)
             out.update({c: g for c, g in rest.items() if c not in out})
+            # a character in neither place is the default source's miss (it said "kanjivg: no
+            # glyph", which read as if the bundled glyphs had not been looked in); a KanjiVG file
+            # that cannot be read stays its own error
+            bad += [_unknown("default", e.char, "among the bundled glyphs or in KanjiVG")
+                    if getattr(e, "unknown", False) else e for e in kv]
         else:
             bad += [_unknown("default", c, "among the bundled ones; pip install 'brushwork[kanjivg]' for "
                                            "about 6,400 more, or pass --source") for c in unknown]
