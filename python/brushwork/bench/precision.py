@@ -44,8 +44,9 @@ What is measured (issue 5; NUMERICS.md "Error against run time"):
   reference's (P_k at the polished solution), so that it measures both the solver's error and
   how far our trajectory has drifted from the reference's; skeleton error max_i |O_i - O_i*| (mm, and as a
   fraction of the tuft length L); footprint error 1 - IoU of the footprint polygons (shapely when
-  installed, else a raster of both polygon sets).  The ink-mask IoU of a rendered character is a
-  plug-in (INK_MASK_IOU) that is not available yet.
+  installed, else a raster of both polygon sets); and at the end of the pipeline (full runs, not
+  ``--quick``) the ink-mask IoU of 永 written by the kai driver at 512 px with each setting's
+  brush against the same written with a tight solve (``INK_MASK_IOU``, ``bench.glyphs.InkMaskIoU``).
 * **Time per frame**: wall time in Python around ``step()`` for ours (best of ``repeats`` runs
   per frame), around the solve call for peers (``prepare`` is not counted for them).
 
