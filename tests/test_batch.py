@@ -181,7 +181,7 @@ def test_batch_fills_one_sources_gaps_from_the_next(tmp_path, capsys):
     assert rc == 2 and "2 written, 0 already there, 1 failed" in captured
     assert sorted(p.name for p in out.iterdir()) == ["U+4EBA.png", "U+6C38.png", "failed.txt"]
     assert f"in any of kanjivg:{DATA / 'kanjivg'}, {MMAH}" in (out / "failed.txt").read_text(encoding="utf-8")
-    assert "1 character(s) are in none of the source's glyphs: add a source after a +" in captured
+    assert f"1 character(s) are in none of the source's glyphs: add a source after a +, e.g. --source {chain}+mmah:" in captured
 
 
 def test_batches_in_one_process_each_get_a_paper_of_their_own(tmp_path):
@@ -303,7 +303,7 @@ def test_default_source_bundled_then_kanjivg(monkeypatch):
     with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
         load_source("default", "鬱")
     # with KanjiVG there (a stand-in folder), a character in neither place is one error of the
-    # default source that says where it looked and how to add a source
+    # default source that says where it looked
     monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: True)
     monkeypatch.setattr(glyph_sources.kanjivg, "package_dir", lambda: DATA / "kanjivg")
     errors: list = []

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from .glyphs import load_source
+from .glyphs.sources import add_source_hint
 from .motion import Style, Writer, check_samples, check_size, writing_paper
 from .paper import Paper
 
@@ -137,6 +138,7 @@ class BatchResult:
     seconds: float = 0.0
     interrupted: bool = False
     unknown: int = 0                               # of the failed, characters no source had
+    source: str = "default"                        # where the glyphs came from (a --source spec)
 
     @property
     def chars_per_s(self) -> float:
@@ -189,7 +191,7 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     out.mkdir(parents=True, exist_ok=True)
     if not os.access(out, os.W_OK):
         raise PermissionError(f"cannot write into {out}: the folder is not writable")
-    result = BatchResult()
+    result = BatchResult(source=source)
     todo = []
     for c in dict.fromkeys(chars):
         (result.skipped if (out / output_name(c)).is_file() else todo).append(c)
@@ -299,6 +301,5 @@ def summary(result: BatchResult, failures_file: Path | None = None) -> str:
     elif failures_file:
         lines.append(f"  (also listed in {failures_file})")
     if result.unknown:
-        lines.append(f"  {result.unknown} character(s) are in none of the source's glyphs: add a source after a +, "
-                     "e.g. --source default+mmah:graphics.txt (Make Me a Hanzi has over 9,000)")
+        lines.append(f"  {result.unknown} character(s) are in none of the source's glyphs: {add_source_hint(result.source)}")
     return "\n".join(lines)

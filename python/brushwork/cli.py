@@ -177,6 +177,7 @@ def _render_text(args: argparse.Namespace) -> int:
     from .batch import check_bits, check_samples, check_size, parse_charset, text_paper
     from .bench.report import check_writable
     from .glyphs import GlyphError, load_source
+    from .glyphs.sources import add_source_hint
     from .motion import Style
 
     chars = parse_charset(args.text)
@@ -191,8 +192,7 @@ def _render_text(args: argparse.Namespace) -> int:
         glyphs = load_source(args.source, chars)  # an unknown character: GlyphError naming the source
     except GlyphError as err:
         if getattr(err, "unknown", False):        # say how to add one (batch says it in its summary)
-            raise ValueError(f"{err}; add a source after a +, e.g. --source {args.source}+mmah:graphics.txt "
-                             "(Make Me a Hanzi has over 9,000)") from err
+            raise ValueError(f"{err}; {add_source_hint(args.source)}") from err
         raise
     t0 = time.perf_counter()
     paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples)

@@ -72,6 +72,11 @@ def _load_default(chars, variant, errors) -> dict[str, Glyph]:
     return out if wanted is None else {c: out[c] for c in wanted if c in out}
 
 
+def add_source_hint(spec: str = "default") -> str:
+    """What to tell a user whose characters `spec` does not have: chain another source after it."""
+    return f"add a source after a +, e.g. --source {spec}+mmah:graphics.txt (Make Me a Hanzi has over 9,000)"
+
+
 def glyph_file_name(char: str) -> str:
     """Our format's file name for char: U+XXXX.json (upper-case hex, at least 4 digits)."""
     return f"U+{ord(char):04X}.json"
