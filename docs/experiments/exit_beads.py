@@ -56,7 +56,7 @@ def main(path: str, n: int, style_name: str, overrides: dict) -> None:
 
     Writer._observe, Writer.write_stroke = traced_observe, traced_stroke
     scores = []
-    for k, (char, glyph) in enumerate(glyphs):
+    for char, glyph in glyphs:
         paper = writing_paper(style, SIZE)
         writer = Writer(paper, style, 0)
         if overrides:
