@@ -80,6 +80,11 @@ class Style:
     end_reach_em: float | None = None  # how far the footprint may reach past a median's end, em
                                   # (None: half the stroke's width)
     start_reach_em: float | None = None  # the same before its start (None: as end_reach_em)
+    taper_from: float | None = None  # 出锋 exits (tapered, rising families): from this fraction of the
+                                  # median on, where the profile thins, the width loop only eases the
+                                  # press, and the stroke lifts where it stands (None: off)
+    taper_collapse: float = 0.5   # ... and the travel ends once the footprint is narrower than this
+                                  # fraction of the profile's width there (the belly has left the paper)
     offset_em: tuple = (0.0, 0.0)  # (x, y) em added to every centreline point: a Kai stroke's body
                                   # hangs below-right of the line its tip follows (笔锋 on the upper left)
     profiles: dict = field(default_factory=dict)  # family -> [[s in 0..1, width factor], ...]
@@ -262,6 +267,13 @@ class Writer:
                 self.offset_local += np.array([c * err[0] + sn * err[1], -sn * err[0] + c * err[1]])
             else:
                 self._observe(p0, heading[0], width[0] if t >= 1.0 else None)
+        # 出锋: near the end of a tapering stroke the press only eases. The footprint does not
+        # thin with the press: the spread belly keeps its width, then leaves the paper within a
+        # frame or two and only the tip touches. A loop free to press again brought the belly
+        # down on a folded tip, a bead at the end of 68% of the 撇 (docs/experiments, session
+        # 12); eased only, the tip alone drew a hairline past the end. So the travel ends where
+        # the belly has left, and the brush lifts there
+        tapering = st.taper_from is not None and family(kind) in ("tapered", "rising")
         # travel
         for j in range(len(path)):
             if j > 0:
@@ -272,11 +284,18 @@ class Writer:
                 self.press = float(np.clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom, 0.0, 0.45))
             pj = target(j)
             self._step(pj, heading[j], self.press, tilt)
+            eased = self.press
             self._observe(pj, heading[j], width[j])
+            if tapering and s[j] > st.taper_from * length and j + 1 < len(path) and width[j + 1] < width[j]:
+                self.press = min(self.press, eased)
+                seen = _centroid_and_width(self.contact, heading[j])
+                if seen is None or seen[1] < st.taper_collapse * width[j]:
+                    break
         # lift while drawing the root back over the footprint (回锋, returning the tip), so the
-        # unbending tuft does not sweep ink past the stroke's end
-        end, h = target(len(path) - 1), heading[-1]
-        back = np.array([math.cos(h), math.sin(h)]) * self.offset_local[0]
+        # unbending tuft does not sweep ink past the stroke's end; a tapered exit has no tip
+        # to return (only the tip touches as the travel ends): it lifts where it stands
+        end, h = target(j), heading[j]
+        back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering else self.offset_local[0])
         for j in range(st.exit_frames):
             t = (j + 1) / st.exit_frames
             self._step(end - back * t, h, self.press * (1 - t) - st.hover * t, tilt)
