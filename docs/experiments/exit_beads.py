@@ -8,8 +8,13 @@ stroke is a defect; `flared` (捺) and `hook` profiles swell near their ends by 
 counts are mostly the profile; `plain` strokes end pressed (顿) and thinner. Brush model fields
 can be overridden (the style's preset otherwise). A study script, not part of the package:
 
-    PYTHONPATH=python python3 docs/experiments/exit_beads.py PATH/graphics.txt 80 [STYLE] [field=value ...]
+    PYTHONPATH=python python3 docs/experiments/exit_beads.py PATH/graphics.txt 80 [STYLE] [--all-frames] [field=value ...]
     e.g. ... 80 kai q_max=60   or   ... 80 kai stiffness_radius_power=0.5 stiffness_ratio=5
+
+--all-frames (session 12) reads the width on every frame of the stroke from its first touch,
+the exit's lift included (a teardrop the tip leaves as it lifts shows only there), and counts a
+bead where, over the last 30% of those frames, the width grows to 1.6 times its dip and at
+least 0.4 mm more; it also prints the strokes broken and the frames held.
 """
 import collections
 import sys
@@ -35,15 +40,34 @@ def is_beaded(widths: np.ndarray) -> bool:
     return False
 
 
-def main(path: str, n: int, style_name: str, overrides: dict) -> None:
+def is_beaded_all(widths: np.ndarray) -> bool:
+    """--all-frames: from the first touch, a dip then a rise to >= 1.6x and >= 0.4 mm over it."""
+    touched = np.nonzero(widths)[0]
+    if len(touched) == 0:
+        return False
+    widths = widths[touched[0]:]
+    low = np.inf
+    for w in widths[int(0.7 * len(widths)):]:
+        low = min(low, w)
+        if w >= 1.6 * low and w >= low + 0.4:
+            return True
+    return False
+
+
+def main(path: str, n: int, style_name: str, overrides: dict, all_frames: bool = False) -> None:
     glyphs = list(load_source(f"mmah:{path}", None, errors=[]).items())[:n]
     style = Style.load(style_name)
     seen: list = []                                   # the current stroke's widths, mm
     beads, strokes = collections.Counter(), collections.Counter()
-    observe, write_stroke = Writer._observe, Writer.write_stroke
+    observe, write_stroke, step = Writer._observe, Writer.write_stroke, Writer._step
+
+    def traced_step(self, target, heading, press, tilt):
+        step(self, target, heading, press, tilt)
+        c = motion._centroid_and_width(self.contact, heading)
+        seen.append(c[1] if c else 0.0)
 
     def traced_observe(self, target, heading, width_target):
-        if width_target is not None:
+        if width_target is not None and not all_frames:
             c = motion._centroid_and_width(self.contact, heading)
             seen.append(c[1] if c else 0.0)
         observe(self, target, heading, width_target)
@@ -52,10 +76,12 @@ def main(path: str, n: int, style_name: str, overrides: dict) -> None:
         seen.clear()
         write_stroke(self, points, kind)
         strokes[motion.family(kind)] += 1
-        beads[motion.family(kind)] += is_beaded(np.asarray(seen))
+        beads[motion.family(kind)] += (is_beaded_all if all_frames else is_beaded)(np.asarray(seen))
 
     Writer._observe, Writer.write_stroke = traced_observe, traced_stroke
-    scores = []
+    if all_frames:
+        Writer._step = traced_step
+    scores, breaks, holds = [], 0, 0
     for char, glyph in glyphs:
         paper = writing_paper(style, SIZE)
         writer = Writer(paper, style, 0)
@@ -65,8 +91,10 @@ def main(path: str, n: int, style_name: str, overrides: dict) -> None:
                 setattr(model, key, type(getattr(model, key))(float(value)))
             writer.brush = Brush(model)
         writer.write(glyph)
+        breaks, holds = breaks + writer.breaks, holds + writer.holds
         scores.append(iou(paper.ink() > 0.5, np.any(stroke_masks(glyph, SIZE), axis=0)))
-    print(f"{n} characters, style {style_name}, {overrides or 'the preset'}: mean IoU {np.mean(scores):.4f}")
+    print(f"{n} characters, style {style_name}, {overrides or 'the preset'}: mean IoU {np.mean(scores):.4f}"
+          + (f", {breaks} strokes broken, {holds} frames held" if all_frames else ""))
     print("| family | strokes | beaded |")
     print("|---|---:|---:|")
     for fam, count in sorted(strokes.items()):
@@ -75,6 +103,6 @@ def main(path: str, n: int, style_name: str, overrides: dict) -> None:
 
 if __name__ == "__main__":
     args = sys.argv[1:]
-    plain = [a for a in args if "=" not in a]
+    plain = [a for a in args if "=" not in a and not a.startswith("--")]
     main(plain[0], int(plain[1]) if len(plain) > 1 else 80, plain[2] if len(plain) > 2 else "kai",
-         dict(a.split("=", 1) for a in args if "=" in a))
+         dict(a.split("=", 1) for a in args if "=" in a), "--all-frames" in args)
