@@ -12,7 +12,7 @@ from brushwork import batch, cli
 from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import GlyphError, load_source
 from brushwork.glyphs import sources as glyph_sources
-from brushwork.glyphs.score import iou, outline_mask
+from brushwork.glyphs.score import beaded, iou, outline_mask
 from brushwork.motion import Style, Writer, render_glyph
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
 
@@ -467,19 +467,11 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     `bench glyphs` writes: the ink's depletion, counted in pixels, feeds the brush's wetness
     and so its adhesion; at 128 px this stroke's belly comes down again during the lift, one
     of the 4 in 101 撇 of the first 80 development characters that keep a bead.)"""
-    def bead(widths):                 # a dip, then a rise to 1.6x and 0.4 mm over it
-        low = np.inf
-        for w in widths[int(0.7 * len(widths)):]:
-            low = min(low, w)
-            if w >= 1.6 * low and w >= low + 0.4:
-                return True
-        return False
-
     kai = Style.load("kai")
     assert kai.taper_from is not None
     rows, exit_at = _trace_exit(kai)
     widths = [r[1] for r in rows]
-    assert not bead(widths)
+    assert not beaded(widths)
     travel = [r[0] for r in rows[:exit_at]]
     start = int(kai.taper_from * len(travel)) + 2
     assert all(b <= a + 1e-12 for a, b in zip(travel[start:], travel[start + 1:]))
@@ -487,4 +479,4 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     assert len(exit_roots) == kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
     from dataclasses import replace
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
-    assert bead([r[1] for r in rows_off])
+    assert beaded([r[1] for r in rows_off])

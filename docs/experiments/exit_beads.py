@@ -24,7 +24,7 @@ import numpy as np
 from brushwork import motion
 from brushwork.brush import Brush
 from brushwork.glyphs import load_source
-from brushwork.glyphs.score import iou, stroke_masks
+from brushwork.glyphs.score import beaded, iou, stroke_masks
 from brushwork.motion import Style, Writer, writing_paper
 
 SIZE = 512
@@ -41,17 +41,9 @@ def is_beaded(widths: np.ndarray) -> bool:
 
 
 def is_beaded_all(widths: np.ndarray) -> bool:
-    """--all-frames: from the first touch, a dip then a rise to >= 1.6x and >= 0.4 mm over it."""
+    """--all-frames: from the first touch, `glyphs.score.beaded`."""
     touched = np.nonzero(widths)[0]
-    if len(touched) == 0:
-        return False
-    widths = widths[touched[0]:]
-    low = np.inf
-    for w in widths[int(0.7 * len(widths)):]:
-        low = min(low, w)
-        if w >= 1.6 * low and w >= low + 0.4:
-            return True
-    return False
+    return len(touched) > 0 and beaded(widths[touched[0]:])
 
 
 def main(path: str, n: int, style_name: str, overrides: dict, all_frames: bool = False) -> None:

@@ -128,3 +128,16 @@ def pieces(ink: np.ndarray, ref: np.ndarray) -> tuple[int, int]:
     kept = area >= DUST_EM2
     specks = int((kept & (area < SPECK_EM2)).sum())
     return max(0, int(kept.sum()) - (n_ref - 1)), specks
+
+
+def beaded(widths_mm) -> bool:
+    """A bead at a stroke's end: the footprint's widths (mm, one a frame from the first touch to
+    the lift) dip over their last 30% and then grow to 1.6 times the dip and 0.4 mm over it (a
+    bulb after a neck, as a soft tip that folded is pressed down again)."""
+    low = np.inf
+    widths = np.asarray(widths_mm, dtype=float)
+    for w in widths[int(0.7 * len(widths)):]:
+        low = min(low, w)
+        if w >= 1.6 * low and w >= low + 0.4:
+            return True
+    return False
