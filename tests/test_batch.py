@@ -1,7 +1,9 @@
 """Writing characters: the driver's ink against the outlines, `brushwork render` and `brushwork batch`
 (names, resuming, failures, bad input), contact sheets, the default source and GB2312."""
 import json
+import math
 import os
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -63,6 +65,12 @@ def test_styles_load_and_bad_styles_are_named(tmp_path):
     bad.write_text("{not json", encoding="utf-8")
     with pytest.raises(ValueError, match="mine.json: not a style file"):
         Style.load(str(bad))
+    kai = json.loads((Path(__file__).resolve().parents[1] / "python" / "brushwork" / "styles" / "kai.json").read_text(encoding="utf-8"))
+    for key, value, words in (("taper_from", 1.5, "taper_from 1.5: expected a fraction"),
+                              ("taper_collapse", -0.1, "taper_collapse -0.1: expected a fraction")):
+        bad.write_text(json.dumps(dict(kai, **{key: value})), encoding="utf-8")
+        with pytest.raises(ValueError, match=f"mine.json: {words}"):
+            Style.load(str(bad))
 
 
 def test_render_writes_a_row_of_characters(tmp_path, capsys):
@@ -433,8 +441,6 @@ def _trace_exit(style, size=512):
     """The 撇 of the bundled 人 written alone at `size` px: per frame from its first touch, the
     press asked (L), the footprint's width across the travel (mm) and the root's xy (mm), and the
     index of the first exit frame (the lift)."""
-    import math
-    from dataclasses import replace
     from brushwork.motion import _centroid_and_width, family, writing_paper
 
     glyph = load_source("default", "人")["人"]
@@ -473,10 +479,11 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     widths = [r[1] for r in rows]
     assert not beaded(widths)
     travel = [r[0] for r in rows[:exit_at]]
+    # frames past taper_from of the travel (rows start with the entry's presses, so this index
+    # is, if anything, later than where the rule starts; +2 for rounding of the 1 mm steps)
     start = int(kai.taper_from * len(travel)) + 2
     assert all(b <= a + 1e-12 for a, b in zip(travel[start:], travel[start + 1:]))
     exit_roots = np.array([r[2] for r in rows[exit_at:]])
     assert len(exit_roots) == kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
-    from dataclasses import replace
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
     assert beaded([r[1] for r in rows_off])

@@ -106,6 +106,10 @@ class Style:
         missing = {"plain", "tapered", "flared", "rising", "dot", "hook"} - set(style.profiles)
         if missing:
             raise ValueError(f"{path}: profiles lack {', '.join(sorted(missing))}")
+        if style.taper_from is not None and not 0.0 <= style.taper_from <= 1.0:
+            raise ValueError(f"{path}: taper_from {style.taper_from}: expected a fraction of the median, 0..1, or null")
+        if not 0.0 <= style.taper_collapse <= 1.0:
+            raise ValueError(f"{path}: taper_collapse {style.taper_collapse}: expected a fraction of the width, 0..1")
         return style
 
     @staticmethod
