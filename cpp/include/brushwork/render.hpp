@@ -213,6 +213,8 @@ class Paper {
   const Brush* last_brush_ = nullptr;
   std::vector<float> last_vertices_;     // (V, 3) render vertices of the last deposit, mm
   std::vector<float> last_centers_;      // (V, 3) their ring centres, mm
+  std::vector<double> last_placed_;      // (V, 3) the last deposit's surface as the shader placed it, mm
+  double last_soak_ = 0.0;               // the soaked tip's growth it was placed with
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom

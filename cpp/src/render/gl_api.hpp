@@ -80,6 +80,7 @@ namespace brushwork::gl {
   X(void, GenBuffers, (GLsizei, GLuint*))                                                      \
   X(void, BindBuffer, (GLenum, GLuint))                                                        \
   X(void, BufferData, (GLenum, GLsizeiptr, const void*, GLenum))                               \
+  X(void, BufferSubData, (GLenum, GLintptr, GLsizeiptr, const void*))                           \
   X(void, DeleteBuffers, (GLsizei, const GLuint*))                                             \
   X(void, VertexAttribPointer, (GLuint, GLint, GLenum, GLboolean, GLsizei, const void*))       \
   X(void, EnableVertexAttribArray, (GLuint))                                                   \

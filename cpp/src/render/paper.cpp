@@ -1,6 +1,7 @@
 // The paper: float ink in tiles, the footprint pass, strokes, undo and readback
 // (seed "Ink depositing", "System prototype": stroke undo, image saving and loading).
 #include <algorithm>
+#include <array>
 #if defined(__SSE2__)
 #include <xmmintrin.h>
 #endif
@@ -30,6 +31,10 @@ struct PaperTile {
 class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
+  // bytes allocated to vbo and ibo: a deposit that fits writes into them (glBufferSubData)
+  // rather than allocating new storage each frame (freed, page-faulted in again: ~1.5% of a
+  // 1024 px character in the kernel's page clearing alone)
+  GLsizeiptr vbo_bytes = 0, ibo_bytes = 0;
   GLint u_blends = -1, u_slides = -1, u_first = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
   GLint u_dry_param = -1, u_grain_scale = -1;
@@ -442,17 +447,20 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const int V = cur.vertices();
   const double soak = (scene_.soaked_tip && ink != nullptr) ? scene_.soak_expand * ink->excess : 0.0;
 
-  // the surface as the shader will place it (the soaked tip swells), for contact and bounds
-  auto placed = [&](const std::vector<float>& pos, const std::vector<float>& ctr, int v, int d) {
-    const double s = cur.uv[2 * v];
-    const double t = std::clamp((s - 0.5) / 0.5, 0.0, 1.0);
-    const double grow = 1.0 + soak * t * t * (3.0 - 2.0 * t);
-    return ctr[3 * v + d] + (pos[3 * v + d] - ctr[3 * v + d]) * grow;
+  // the surface as the shader will place it (the soaked tip swells), for contact and bounds:
+  // (V, 3) mm, each vertex moved out from its ring's centre by its growth at s = uv.x
+  auto place = [&](const std::vector<float>& pos, const std::vector<float>& ctr, std::vector<double>& out) {
+    out.resize(3 * static_cast<std::size_t>(V));
+    for (int v = 0; v < V; ++v) {
+      const double s = cur.uv[2 * v];
+      const double t = std::clamp((s - 0.5) / 0.5, 0.0, 1.0);
+      const double grow = 1.0 + soak * t * t * (3.0 - 2.0 * t);
+      for (int d = 0; d < 3; ++d) out[3 * v + d] = ctr[3 * v + d] + (pos[3 * v + d] - ctr[3 * v + d]) * grow;
+    }
   };
-  // this deposit's surface so placed, (V, 3) mm; the last deposit's below, once it is known
-  std::vector<double> pc(3 * static_cast<std::size_t>(V)), pp;
-  for (int v = 0; v < V; ++v)
-    for (int d = 0; d < 3; ++d) pc[3 * v + d] = placed(cur.position, cur.center, v, d);
+  // this deposit's surface so placed; the last deposit's below, once it is known
+  std::vector<double> pc, pp;
+  place(cur.position, cur.center, pc);
   double zmin = 1e300;
   for (int v = 0; v < V; ++v) zmin = std::min(zmin, pc[3 * v + 2]);
   stats.contact = zmin < 0.0;
@@ -479,9 +487,11 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   stroke_color_ = color;
   const std::vector<float>& prev = last_vertices_;
   const std::vector<float>& prev_c = last_centers_;
-  pp.resize(pc.size());
-  for (int v = 0; v < V; ++v)
-    for (int d = 0; d < 3; ++d) pp[3 * v + d] = placed(prev, prev_c, v, d);
+  // (the last deposit placed its surface with the same growth unless the soaked tip drained:
+  // then it is the copy kept from then, the same numbers)
+  if (!continues) pp = pc;
+  else if (soak == last_soak_ && last_placed_.size() == pc.size()) pp.swap(last_placed_);
+  else place(prev, prev_c, pp);
 
   // the triangles that can reach the paper at some point of the sweep (half a pixel of
   // antialiasing above it included), their pixel bounds and the largest travel; and those that
@@ -506,18 +516,20 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   std::vector<std::uint32_t> faces, faces_prev, faces_cur, inner_all;
   faces.reserve(cur.faces.size());
   std::vector<char> used(V, 0);
+  faces_prev.reserve(cur.faces.size());
+  faces_cur.reserve(cur.faces.size());
+  inner_all.reserve(cur.faces.size());
   for (std::size_t f = 0; f < cur.faces.size(); f += 3) {
-    double lo_cur = 1e300, lo_prev = 1e300, hi_cur = -1e300, hi_prev = -1e300, ring_lo = 1e300;
-    for (int e = 0; e < 3; ++e) {
-      const int v = static_cast<int>(cur.faces[f + e]);
-      const double zc = pc[3 * v + 2], zp = pp[3 * v + 2];
-      lo_cur = std::min(lo_cur, zc);
-      lo_prev = std::min(lo_prev, zp);
-      hi_cur = std::max(hi_cur, zc);
-      hi_prev = std::max(hi_prev, zp);
-      ring_lo = std::min({ring_lo, static_cast<double>(cur.center[3 * v + 2]), static_cast<double>(prev_c[3 * v + 2])});
-    }
-    if (std::min(lo_cur, lo_prev) < zcut) {
+    const std::uint32_t* fv = &cur.faces[f];
+    const double zc0 = pc[3 * fv[0] + 2], zc1 = pc[3 * fv[1] + 2], zc2 = pc[3 * fv[2] + 2];
+    const double zp0 = pp[3 * fv[0] + 2], zp1 = pp[3 * fv[1] + 2], zp2 = pp[3 * fv[2] + 2];
+    const double lo_cur = std::min({zc0, zc1, zc2}), lo_prev = std::min({zp0, zp1, zp2});
+    if (std::min(lo_cur, lo_prev) < zcut) {  // (most of the tuft is above: those faces end here)
+      const double hi_cur = std::max({zc0, zc1, zc2}), hi_prev = std::max({zp0, zp1, zp2});
+      double ring_lo = 1e300;
+      for (int e = 0; e < 3; ++e)
+        ring_lo = std::min({ring_lo, static_cast<double>(cur.center[3 * fv[e] + 2]),
+                            static_cast<double>(prev_c[3 * fv[e] + 2])});
       for (int e = 0; e < 3; ++e) used[cur.faces[f + e]] = 1;
       // (the premise above holds for a ring whose centre is above the paper; one whose centre
       // is below it has its widest points there too, and its faces can carry the outline, so
@@ -572,17 +584,36 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   const bool both_below = wp > 0.0 && wc > 0.0;
   const double move_x = both_below ? ccx / wc - pcx / wp : 0.0, move_y = both_below ? ccy / wc - pcy / wp : 0.0;
   const double move_mm = std::hypot(move_x, move_y);
-  // (the near faces' vertices, once; each t blends them once, not once per edge they are on)
-  std::vector<int> near_v;
-  std::vector<double> bl;  // (V, 3) mm, the blend at t of the vertices in near_v
+  // (each t blends only what can add to the width: the near faces' vertices below the paper
+  // at either end, and their edges whose two ends can lie on the two sides of it at some t.
+  // A blend (1 - t) a + t b of two depths of one sign keeps that sign, so a vertex above the
+  // paper in both deposits is above it at every t, and an edge whose ends stay on one side
+  // never crosses: the points added, and so the width, are those of all the near faces'.
+  // Listed once, at the first t; each directed edge as often as the faces have it.)
+  std::vector<int> dip_v, blend_v;
+  std::vector<std::array<std::uint32_t, 2>> cross_e;
+  std::vector<double> bl;  // (V, 3) mm, the blend at t of the vertices in blend_v
   auto width_across = [&](double t) {
-    if (near_v.empty()) {
-      std::vector<char> seen(V, 0);
-      for (std::size_t f = 0; f < near_all; ++f)
-        if (!seen[faces[f]]) seen[faces[f]] = 1, near_v.push_back(static_cast<int>(faces[f]));
+    if (bl.empty()) {
       bl.resize(3 * static_cast<std::size_t>(V));
+      std::vector<char> seen(V, 0);
+      auto below = [&](std::uint32_t v) { return pp[3 * v + 2] < 0.0 || pc[3 * v + 2] < 0.0; };
+      auto above = [&](std::uint32_t v) { return pp[3 * v + 2] >= 0.0 || pc[3 * v + 2] >= 0.0; };
+      auto keep = [&](std::uint32_t v) {
+        if (!seen[v]) seen[v] = 1, blend_v.push_back(static_cast<int>(v));
+      };
+      for (std::size_t f = 0; f < near_all; f += 3)
+        for (int e = 0; e < 3; ++e) {
+          const std::uint32_t a = faces[f + e], b = faces[f + (e + 1) % 3];
+          if ((below(a) && above(b)) || (below(b) && above(a))) cross_e.push_back({a, b}), keep(a), keep(b);
+        }
+      std::vector<char> dipped(V, 0);
+      for (std::size_t f = 0; f < near_all; ++f) {
+        const std::uint32_t v = faces[f];
+        if (!dipped[v] && below(v)) dipped[v] = 1, dip_v.push_back(static_cast<int>(v)), keep(v);
+      }
     }
-    for (const int v : near_v)
+    for (const int v : blend_v)
       for (int d = 0; d < 3; ++d) bl[3 * v + d] = (1.0 - t) * pp[3 * v + d] + t * pc[3 * v + d];
     const double ux = move_x / move_mm, uy = move_y / move_mm;
     double lo = 1e300, hi = -1e300;
@@ -590,16 +621,16 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       const double b = -uy * x + ux * y;
       lo = std::min(lo, b), hi = std::max(hi, b);
     };
-    for (std::size_t f = 0; f < near_all; f += 3)
-      for (int e = 0; e < 3; ++e) {
-        const double* a = &bl[3 * static_cast<std::size_t>(faces[f + e])];
-        const double* b = &bl[3 * static_cast<std::size_t>(faces[f + (e + 1) % 3])];
-        if (a[2] < 0.0) add(a[0], a[1]);
-        if ((a[2] < 0.0) != (b[2] < 0.0)) {
-          const double u = a[2] / (a[2] - b[2]);
-          add(a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]));
-        }
+    for (const int v : dip_v)
+      if (bl[3 * v + 2] < 0.0) add(bl[3 * v], bl[3 * v + 1]);
+    for (const auto& e : cross_e) {
+      const double* a = &bl[3 * static_cast<std::size_t>(e[0])];
+      const double* b = &bl[3 * static_cast<std::size_t>(e[1])];
+      if ((a[2] < 0.0) != (b[2] < 0.0)) {
+        const double u = a[2] / (a[2] - b[2]);
+        add(a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1]));
       }
+    }
     return hi >= lo ? hi - lo : 0.0;
   };
   constexpr double kNeck = 0.5;
@@ -697,16 +728,25 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     FootprintProgram& fp = *program_;
     gl::UseProgram(fp.prog);
     gl::BindVertexArray(fp.vao);
+    // (into the buffers' storage when it is large enough, else new storage of the size asked)
+    auto upload = [](GLenum target, GLsizeiptr& have, GLsizeiptr bytes, const void* data) {
+      if (bytes > have) {
+        gl::BufferData(target, bytes, data, GL_DYNAMIC_DRAW);
+        have = bytes;
+      } else {
+        gl::BufferSubData(target, 0, bytes, data);
+      }
+    };
     gl::BindBuffer(GL_ARRAY_BUFFER, fp.vbo);
-    gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data(), GL_STREAM_DRAW);
+    upload(GL_ARRAY_BUFFER, fp.vbo_bytes, static_cast<GLsizeiptr>(vb.size() * sizeof(float)), vb.data());
     // index buffer: the sweep's faces, then the last part's, then this part's
     const std::size_t n_all = faces.size(), n_prev = slides_prev > 0 ? faces_prev.size() : 0,
                       n_cur = slides_cur > 0 ? faces_cur.size() : 0;
     faces.insert(faces.end(), faces_prev.begin(), faces_prev.begin() + n_prev);
     faces.insert(faces.end(), faces_cur.begin(), faces_cur.begin() + n_cur);
     gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, fp.ibo);
-    gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(faces.size() * sizeof(std::uint32_t)),
-                   faces.data(), GL_STREAM_DRAW);
+    upload(GL_ELEMENT_ARRAY_BUFFER, fp.ibo_bytes, static_cast<GLsizeiptr>(faces.size() * sizeof(std::uint32_t)),
+           faces.data());
 
     // per-node wetness (the brush's) and pressure (from the sections)
     float wet[kMaxNodes] = {0}, press[kMaxNodes] = {0};
@@ -807,11 +847,14 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       read_layer_alpha(rect, after);
       if (layer_alpha_.empty()) layer_alpha_.assign(static_cast<std::size_t>(W_) * H_, 0.0f);
       double gained = 0.0;
-      const int rw = rect[2] - rect[0];
-      for (std::size_t i = 0; i < after.size(); ++i) {
-        float& kept = layer_alpha_[static_cast<std::size_t>(rect[1] + i / rw) * W_ + rect[0] + i % rw];
-        gained += static_cast<double>(after[i]) - kept;
-        kept = after[i];
+      const int rw = rect[2] - rect[0], rh = rect[3] - rect[1];
+      for (int y = 0; y < rh; ++y) {
+        const float* row = &after[static_cast<std::size_t>(y) * rw];
+        float* kept = &layer_alpha_[static_cast<std::size_t>(rect[1] + y) * W_ + rect[0]];
+        for (int x = 0; x < rw; ++x) {
+          gained += static_cast<double>(row[x]) - kept[x];
+          kept[x] = row[x];
+        }
       }
       gained /= ppm_ * ppm_;  // px -> mm^2
       stats.deposited = gained;
@@ -847,6 +890,8 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   last_brush_ = &brush;
   last_vertices_ = cur.position;
   last_centers_ = cur.center;
+  last_placed_.swap(pc);
+  last_soak_ = soak;
   return stats;
 }
 

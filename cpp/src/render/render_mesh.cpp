@@ -2,53 +2,41 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
+#include <utility>
 
 namespace brushwork {
 
-RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals) {
-  const SurfaceMesh m = brush.surface_mesh(opt);
-  const int A = opt.around;
-  const int V = static_cast<int>(m.vertices.rows());
-  const int NR = (V - 2) / A;  // rings: n * rings_per_segment + 1
+namespace {
+
+// The render layout's uv and faces depend on the ring count and the vertices around alone, not on
+// the pose: the footprint pass builds a mesh every frame, so they are made once per (rings,
+// around) and copied (re-indexing the faces took about half of a 1024 px frame's mesh time).
+struct Topology {
+  int NR = -1, A = -1;
+  std::vector<float> uv;             // (RV, 2)
+  std::vector<std::uint32_t> faces;  // (F, 3)
+};
+
+const Topology& topology(const SurfaceMesh& m, int NR, int A) {
+  static thread_local Topology t;
+  if (t.NR == NR && t.A == A && t.faces.size() == 3 * static_cast<std::size_t>(m.faces.rows())) return t;
   const int cols = A + 1;
   const int root_cap = NR * A, apex = NR * A + 1;
   const int R_root = NR * cols, R_apex = NR * cols + 1;  // their render indices
-
-  RenderMesh r;
-  const int RV = NR * cols + 2;
-  r.position.resize(3 * RV);
-  r.center.resize(3 * RV);
-  r.uv.resize(2 * RV);
-  auto put3 = [](std::vector<float>& v, int i, double x, double y, double z) {
-    v[3 * i] = static_cast<float>(x);
-    v[3 * i + 1] = static_cast<float>(y);
-    v[3 * i + 2] = static_cast<float>(z);
-  };
+  t.NR = NR, t.A = A;
+  t.uv.assign(2 * static_cast<std::size_t>(NR * cols + 2), 0.0f);
   for (int j = 0; j < NR; ++j) {
-    // ring centre: mean of the ring (the spine point up to the a+/a- asymmetry)
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < A; ++k) c += m.vertices.row(j * A + k).transpose();
-    c /= A;
     const double along = NR > 1 ? static_cast<double>(j) / (NR - 1) : 0.0;
     for (int k = 0; k <= A; ++k) {
-      const int src = j * A + (k == A ? 0 : k), dst = j * cols + k;
-      put3(r.position, dst, m.vertices(src, 0), m.vertices(src, 1), m.vertices(src, 2));
-      put3(r.center, dst, c.x(), c.y(), c.z());
-      r.uv[2 * dst] = static_cast<float>(along);
-      r.uv[2 * dst + 1] = static_cast<float>(k) / A;
+      t.uv[2 * (j * cols + k)] = static_cast<float>(along);
+      t.uv[2 * (j * cols + k) + 1] = static_cast<float>(k) / A;
     }
   }
-  for (auto [src, dst, along] : {std::tuple<int, int, double>{root_cap, R_root, 0.0},
-                                 std::tuple<int, int, double>{apex, R_apex, 1.0}}) {
-    put3(r.position, dst, m.vertices(src, 0), m.vertices(src, 1), m.vertices(src, 2));
-    put3(r.center, dst, m.vertices(src, 0), m.vertices(src, 1), m.vertices(src, 2));
-    r.uv[2 * dst] = static_cast<float>(along);
-    r.uv[2 * dst + 1] = 0.5f;
-  }
-
+  t.uv[2 * R_root] = 0.0f, t.uv[2 * R_root + 1] = 0.5f;
+  t.uv[2 * R_apex] = 1.0f, t.uv[2 * R_apex + 1] = 0.5f;
   // faces: re-index; a triangle spanning the seam (columns A-1 and 0) uses the repeated column
-  r.faces.reserve(3 * m.faces.rows());
+  t.faces.clear();
+  t.faces.reserve(3 * m.faces.rows());
   for (int f = 0; f < m.faces.rows(); ++f) {
     int idx[3];
     bool has_last = false;
@@ -65,8 +53,51 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
         const int j = v / A, k = v % A;
         out = static_cast<std::uint32_t>(j * cols + ((k == 0 && has_last) ? A : k));
       }
-      r.faces.push_back(out);
+      t.faces.push_back(out);
     }
+  }
+  return t;
+}
+
+}  // namespace
+
+RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals) {
+  const SurfaceMesh m = brush.surface_mesh(opt);
+  const int A = opt.around;
+  const int V = static_cast<int>(m.vertices.rows());
+  const int NR = (V - 2) / A;  // rings: n * rings_per_segment + 1
+  const int cols = A + 1;
+  const int root_cap = NR * A, apex = NR * A + 1;
+  const int R_root = NR * cols, R_apex = NR * cols + 1;  // their render indices
+  const Topology& topo = topology(m, NR, A);
+
+  RenderMesh r;
+  const int RV = NR * cols + 2;
+  r.position.resize(3 * RV);
+  r.center.resize(3 * RV);
+  r.uv = topo.uv;
+  r.faces = topo.faces;
+  auto put3 = [](float* o, double x, double y, double z) {
+    o[0] = static_cast<float>(x);
+    o[1] = static_cast<float>(y);
+    o[2] = static_cast<float>(z);
+  };
+  const double* mv = m.vertices.data();  // (V, 3) row-major
+  for (int j = 0; j < NR; ++j) {
+    // ring centre: mean of the ring (the spine point up to the a+/a- asymmetry)
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < A; ++k) c += m.vertices.row(j * A + k).transpose();
+    c /= A;
+    for (int k = 0; k <= A; ++k) {
+      const double* src = mv + 3 * static_cast<std::ptrdiff_t>(j * A + (k == A ? 0 : k));
+      const int dst = j * cols + k;
+      put3(&r.position[3 * dst], src[0], src[1], src[2]);
+      put3(&r.center[3 * dst], c.x(), c.y(), c.z());
+    }
+  }
+  for (auto [src, dst] : {std::pair<int, int>{root_cap, R_root}, std::pair<int, int>{apex, R_apex}}) {
+    put3(&r.position[3 * dst], m.vertices(src, 0), m.vertices(src, 1), m.vertices(src, 2));
+    put3(&r.center[3 * dst], m.vertices(src, 0), m.vertices(src, 1), m.vertices(src, 2));
   }
 
   if (!with_normals) return r;
