@@ -32,8 +32,10 @@ class FootprintProgram {
  public:
   GLuint prog = 0, vao = 0, vbo = 0, ibo = 0;
   // bytes allocated to vbo and ibo: a deposit that fits writes into them (glBufferSubData)
-  // rather than allocating new storage each frame (freed, page-faulted in again: ~1.5% of a
-  // 1024 px character in the kernel's page clearing alone)
+  // rather than allocating new storage each frame, which llvmpipe clears and copies (~7% of a
+  // 1024 px deposit's instructions; docs/experiments/deposit_instructions.sh).  With depletion
+  // the last frame was read back, so the buffers are idle; without it llvmpipe flushes the
+  // frame first (永和九年人大少 without depletion: the same time and pixels)
   GLsizeiptr vbo_bytes = 0, ibo_bytes = 0;
   GLint u_blends = -1, u_slides = -1, u_first = -1, u_shift = -1, u_view = -1, u_soak = -1, u_nodes = -1, u_wet = -1, u_press = -1, u_color = -1;
   GLint u_split = -1, u_dry = -1, u_grain = -1, u_ramp = -1, u_soak_shift = -1;
