@@ -1,6 +1,7 @@
 #include "render_mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -8,22 +9,27 @@ namespace brushwork {
 
 namespace {
 
-// The render layout's uv and faces depend on the ring count and the vertices around alone, not on
-// the pose: the footprint pass builds a mesh every frame, so they are made once per (rings,
-// around) and copied (re-indexing the faces took about half of a 1024 px frame's mesh time).
+// The render layout's uv and faces depend on the ring count, the vertices around and the winding
+// alone, not on the rest of the pose: the footprint pass builds a mesh every frame, so they are
+// made once per (rings, around, winding) and copied (re-indexing the faces took about half of a
+// 1024 px frame's mesh time).  sweep_surface turns every face over when a pose's frame is
+// left-handed (its winding test), so the first face it gave is kept and compared.
 struct Topology {
   int NR = -1, A = -1;
+  std::array<int, 3> first{{-1, -1, -1}};  // the first face of the core's mesh it was made from
   std::vector<float> uv;             // (RV, 2)
   std::vector<std::uint32_t> faces;  // (F, 3)
 };
 
 const Topology& topology(const SurfaceMesh& m, int NR, int A) {
   static thread_local Topology t;
-  if (t.NR == NR && t.A == A && t.faces.size() == 3 * static_cast<std::size_t>(m.faces.rows())) return t;
+  const std::array<int, 3> first{{m.faces(0, 0), m.faces(0, 1), m.faces(0, 2)}};
+  if (t.NR == NR && t.A == A && t.first == first && t.faces.size() == 3 * static_cast<std::size_t>(m.faces.rows()))
+    return t;
   const int cols = A + 1;
   const int root_cap = NR * A, apex = NR * A + 1;
   const int R_root = NR * cols, R_apex = NR * cols + 1;  // their render indices
-  t.NR = NR, t.A = A;
+  t.NR = NR, t.A = A, t.first = first;
   t.uv.assign(2 * static_cast<std::size_t>(NR * cols + 2), 0.0f);
   for (int j = 0; j < NR; ++j) {
     const double along = NR > 1 ? static_cast<double>(j) / (NR - 1) : 0.0;
