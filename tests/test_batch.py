@@ -5,6 +5,7 @@ import math
 import os
 from dataclasses import replace
 from pathlib import Path
+from types import SimpleNamespace
 
 import cv2
 import numpy as np
@@ -15,7 +16,7 @@ from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import GlyphError, load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
-from brushwork.motion import Style, Writer, render_glyph
+from brushwork.motion import Style, Writer, _resample, render_glyph
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -398,6 +399,9 @@ class _Paper:
 
         return SimpleNamespace(contact=bool(brush.footprint()), new_stroke=False)
 
+    def end_stroke(self):
+        pass
+
 
 @pytest.mark.parametrize("touching, press, converged_first, floats, steps", [
     (True, 0.2, False, 1, 2),     # pressed, capped and floating: the pose is held a frame
@@ -435,6 +439,54 @@ def test_the_writer_counts_a_stroke_broken_by_a_lift():
     writer.touched_in_stroke = False  # what write_stroke does at a stroke's start
     writer._step(np.array([10.0, 10.0]), 0.0, 0.2, 15.0)
     assert writer.breaks == 1         # a new stroke's first touch is no break
+
+
+class _LeavesOnPress:
+    """A brush that touches the paper while the root is pressed deeper than `leave_at` (L) below
+    first contact, and records every pose it is given."""
+
+    def __init__(self, L, tilt, leave_at, off_from=None):
+        self.model = SimpleNamespace(tuft_length=L)
+        self.z_leave = L * math.cos(math.radians(tilt)) - leave_at * L
+        self.off_from = off_from    # from this step on (1-based) off the paper whatever the press
+        self.poses = []
+
+    def step(self, pose):
+        self.poses.append(pose)
+        return SimpleNamespace(converged=True, status="converged")
+
+    def footprint(self):
+        if self.off_from is not None and len(self.poses) >= self.off_from:
+            return []
+        return [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]] if self.poses[-1].position[2] < self.z_leave else []
+
+    def skeleton(self):
+        return np.zeros((7, 3))
+
+
+@pytest.mark.parametrize("leave_at, off_at_travel_end, exit_steps", [
+    (0.15, False, 2),    # leaves on the first exit frame: then straight up
+    (-0.2, False, 4),    # touches until the end of the eased exit
+    (-0.2, True, 1),     # already off on the travel's last frame: straight up at once
+])
+def test_the_lift_goes_straight_up_once_the_brush_has_left(leave_at, off_at_travel_end, exit_steps):
+    """The exit eases the press out over `exit_frames` (kai: 4); once a deposit leaves no ink,
+    the next frame is the full lift and the last. (Eased on while the root rose slowly, the real
+    tuft springing back brought its tip down again: a dot past the stroke's end, counted as a
+    broken stroke.) The press is held at 0.2 L (no width loop), so the exit asks 0.12, 0.04,
+    -0.04, -0.12 L."""
+    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
+    pts = np.array([[10.0, 50.0], [30.0, 50.0]])
+    before_exit = kai.air_frames + kai.entry_frames + len(_resample(pts, kai.step_mm)[0])
+    writer = Writer(_Paper(), kai)
+    writer.brush = _LeavesOnPress(writer.L, kai.tilt_deg, leave_at, before_exit if off_at_travel_end else None)
+    writer.press = 0.2
+    writer.write_stroke(pts, "㇐")
+    z = np.array([p.position[2] for p in writer.brush.poses])
+    exit_z = z[before_exit:]
+    assert len(exit_z) == exit_steps
+    assert exit_z[-1] == pytest.approx(writer._z(-kai.hover, kai.tilt_deg))
+    assert np.all(np.diff(exit_z) > 0.0)        # always up
 
 
 def _trace_exit(style, size=512):
@@ -484,6 +536,8 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     start = int(kai.taper_from * len(travel)) + 2
     assert all(b <= a + 1e-12 for a, b in zip(travel[start:], travel[start + 1:]))
     exit_roots = np.array([r[2] for r in rows[exit_at:]])
-    assert len(exit_roots) == kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
+    # (fewer than exit_frames when the brush leaves the paper early: the rest of the lift is one frame)
+    assert 1 <= len(exit_roots) <= kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
+    assert rows[-1][0] == -kai.hover
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
     assert beaded([r[1] for r in rows_off])
