@@ -19,12 +19,7 @@ import numpy as np
 
 from brushwork import Brush
 from brushwork.bench import precision as P
-
-
-def parse(v: str):
-    if v in ("True", "False"):
-        return v == "True"
-    return float(v) if any(ch in v for ch in ".e") else int(v)
+from precision_quick import parse  # this folder is on sys.path when run as a script
 
 
 def main() -> None:
