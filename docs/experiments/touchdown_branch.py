@@ -8,6 +8,8 @@ frames.  Per run: the extra sub-steps Brush.step split the frames into, the foot
 the end of the press and after the hold (mm^2), and node 4's x at the end of the press (mm; the
 root is at x = 15, the tip touches near 10): above ~12 the belly buckled forward, under the
 handle's lean, and lies on the paper; below ~9 it buckled backward and stands on its folded tip.
+Also the tip joint's bend theta_5 a quarter into the press (rad): negative there, the tuft ended
+backward in every run of session 16; positive, forward in all but one (q_max 30, 48 frames).
 """
 import math
 import sys
@@ -40,11 +42,14 @@ def main() -> None:
             for j in range(n):
                 z = z_air + (z_press - z_air) * (j + 1) / n
                 extra += b.step(bw.Pose((15.0, 15.0, z), 15.0, 0.0)).substeps - 1
+                if j == n // 4:
+                    tip_bend = b.full_state()[2 * (model.n_segments - 1)]  # theta_5, rad
             pressed, node4 = area(b.footprint()), b.skeleton()[4][0]
             for _ in range(30):
                 b.step(bw.Pose((15.0, 15.0, z_press), 15.0, 0.0))
             print(f"q_max {q:3d}  frames x{k:2d}: extra sub-steps {extra:2d}  footprint {pressed:6.2f} mm2 "
-                  f"at the end of the press (node 4 at x {node4:6.2f} mm), {area(b.footprint()):6.2f} after 30 held")
+                  f"at the end of the press (node 4 at x {node4:6.2f} mm, theta_5 early {tip_bend:+.2f}), "
+                  f"{area(b.footprint()):6.2f} after 30 held")
 
 
 if __name__ == "__main__":
