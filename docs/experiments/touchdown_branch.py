@@ -17,15 +17,13 @@ import sys
 import numpy as np
 
 import brushwork as bw
+from brushwork.bench.precision import _signed_area
 
 
 def area(loops) -> float:
-    """mm^2 of the footprint polygons (Brush.footprint)."""
-    out = 0.0
-    for loop in loops:
-        p = np.asarray(loop)  # (k, 2) mm
-        out += 0.5 * abs(np.dot(p[:, 0], np.roll(p[:, 1], 1)) - np.dot(np.roll(p[:, 0], 1), p[:, 1]))
-    return out
+    """mm^2 of the footprint: Brush.footprint's outer loops run counter-clockwise and its holes
+    clockwise, so the signed areas of its (k, 2) mm loops add up to the inked area."""
+    return sum(_signed_area(np.asarray(loop, dtype=float)) for loop in loops if len(loop) >= 3)
 
 
 def main() -> None:
