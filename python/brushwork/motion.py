@@ -112,6 +112,10 @@ class Style:
             raise ValueError(f"{path}: taper_collapse {style.taper_collapse}: expected a fraction of the width, 0..1")
         return style
 
+    def density(self, strokes: int) -> float:
+        """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
+        return float(np.clip(1.0 - self.density_gain * (strokes - self.density_strokes), 0.7, 1.3))
+
     @staticmethod
     def names() -> list[str]:
         return sorted(p.stem for p in STYLE_DIR.glob("*.json"))
@@ -157,6 +161,22 @@ def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float
     if not loops:
         return None
     return _core.footprint_span(loops, float(heading))
+
+
+def stroke_targets(style: Style, points_mm: np.ndarray, kind: str, w_nom: float):
+    """What the driver aims a stroke at: its centreline `points_mm` ((k, 2) mm) resampled every
+    `step_mm` -> path (n, 2) mm, arc length s (n,) mm, heading (n,) rad, and the target footprint
+    width (n,) mm: `w_nom` (mm) times the family's profile over s / length, pressed at corners
+    (折) and, for plain strokes and hooks, broader when vertical."""
+    path, s = _resample(points_mm, style.step_mm)
+    d = np.gradient(path, axis=0)
+    heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    prof = np.asarray(style.profiles[family(kind)], dtype=float)
+    width = w_nom * np.interp(s / max(s[-1], 1e-6), prof[:, 0], prof[:, 1])
+    width *= 1.0 + (style.corner_press - 1.0) * _corners(path)
+    if family(kind) in ("plain", "hook"):
+        width *= 1.0 + style.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
+    return path, s, heading, width
 
 
 class Writer:
@@ -235,16 +255,9 @@ class Writer:
         st = self.style
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
-        path, s = _resample(points_mm, st.step_mm)
-        d = np.gradient(path, axis=0)
-        heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
-        length = max(s[-1], 1e-6)
-        prof = np.asarray(st.profiles[family(kind)], dtype=float)
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
-        width = w_nom * np.interp(s / length, prof[:, 0], prof[:, 1])
-        width *= 1.0 + (st.corner_press - 1.0) * _corners(path)
-        if family(kind) in ("plain", "hook"):
-            width *= 1.0 + st.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
+        path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
+        length = max(s[-1], 1e-6)
         tilt = st.tilt_deg
 
         # the footprint must not reach past the stroke's ends by more than `reach` (mm; half a
@@ -336,7 +349,7 @@ class Writer:
         st = self.style
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
-        self.density = float(np.clip(1.0 - st.density_gain * (len(glyph.strokes) - st.density_strokes), 0.7, 1.3))
+        self.density = st.density(len(glyph.strokes))
         for stroke in glyph.strokes:
             pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
