@@ -149,10 +149,9 @@ def main(path: str, aim: bool) -> None:
         aimed, inks = [o[0] for o in order], [o[1] for o in order]
     chars = [character(g, style, a) for g, a in zip(glyphs, aimed)]
     train, test = chars[0::2], chars[1::2]
-    ppm_px = 0.5    # widths are diameters: radius = width / 2
-
     def score(widths_of, part) -> float:
-        return float(np.mean([iou(pen(c["px"], ppm_px * widths_of(c)), c["ref"]) for c in part]))
+        """Mean IoU over `part` of discs whose diameters (px) are `widths_of(character)`."""
+        return float(np.mean([iou(pen(c["px"], 0.5 * widths_of(c)), c["ref"]) for c in part]))
 
     print(f"{len(glyphs)} characters, discs at the {'aim points of a run of the brush' if aim else 'centrelines'}; "
           f"mean IoU on the held-out (odd) half, and on all")

@@ -163,7 +163,8 @@ def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float
     return _core.footprint_span(loops, float(heading))
 
 
-def stroke_targets(style: Style, points_mm: np.ndarray, kind: str, w_nom: float):
+def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
+                   w_nom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """What the driver aims a stroke at: its centreline `points_mm` ((k, 2) mm) resampled every
     `step_mm` -> path (n, 2) mm, arc length s (n,) mm, heading (n,) rad, and the target footprint
     width (n,) mm: `w_nom` (mm) times the family's profile over s / length, pressed at corners
