@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Re-make every image the README shows, with the commands the README names under each.
+# Run from the repository root with brushwork installed (after install.sh: .venv/bin/brushwork).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bw="${BRUSHWORK:-.venv/bin/brushwork}"
+"$bw" render 永和九年 -o docs/yonghe.png
+"$bw" gallery -o docs/gallery.png --views docs/brush_view.png
+"$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "${TMPDIR:-/tmp}/brushwork-sheet" \
+  --sheet docs/sheet.png --no-progress
