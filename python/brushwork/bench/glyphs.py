@@ -22,7 +22,7 @@ import numpy as np
 from .. import batch as bt
 from ..glyphs import load_source
 from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, pieces, stroke_masks
-from ..motion import Style, Writer, writing_paper
+from ..writing import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 

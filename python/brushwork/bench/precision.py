@@ -69,7 +69,7 @@ import numpy as np
 
 from .. import BrushModel
 from ..brush import Brush
-from ..motions import flick, press_drag_turn_lift
+from ..recorded import flick, press_drag_turn_lift
 
 # the peers' linear algebra on one thread, like the core (set before SciPy loads its BLAS; a
 # value the user set is kept)

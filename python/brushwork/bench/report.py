@@ -4,8 +4,9 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
+
+from ..files import check_writable, write_atomic  # noqa: F401  (the benchmarks' JSON goes through them)
 
 
 def format_value(v: Any) -> str:
@@ -86,45 +87,6 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
-def check_writable(path: str | os.PathLike) -> None:
-    """Raise FileNotFoundError / PermissionError / IsADirectoryError now if `path` cannot be
-    written later (its folder is missing or read-only, or it is a folder), so that a long benchmark
-    fails before it runs rather than after."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise FileNotFoundError(f"cannot write {path}: no such folder {folder}")
-    if os.path.isdir(path):
-        raise IsADirectoryError(f"cannot write {path}: it is a folder")
-    if not os.access(folder, os.W_OK):
-        raise PermissionError(f"cannot write {path}: folder {folder} is not writable")
-
-
-def write_atomic(path: str | os.PathLike, write: Callable[[str], None], suffix: str = "") -> None:
-    """Call write(tmp) on a temporary file next to `path`, then os.replace it onto `path`, so that a
-    reader never sees a half-written file.  The file gets the usual umask permissions."""
-    path = os.fspath(path)
-    check_writable(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    # write next to the target so that os.replace stays on one file system
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=folder)
-    os.close(fd)
-    try:
-        # mkstemp makes the file private (0600): give it the usual umask permissions
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-
 def parameter_table(preset: str = "medium") -> str:
     """The Markdown table of every BrushModel field: unit, range, the preset's value, meaning
     (the README's "Brush parameters"; `brushwork params` prints it)."""
@@ -138,6 +100,8 @@ def parameter_table(preset: str = "medium") -> str:
         lines.append(f"| `{row['name']}` | {row['unit']} | {lo} .. {hi} | {value} | "
                      f"{row['doc'].replace('|', '&#124;')} |")
     return "\n".join(lines)
+
+
 def write_json(path: str | os.PathLike, obj: Any) -> None:
     """Write `obj` as indented JSON to `path` atomically (a temporary file in the same folder, then
     os.replace). Numpy values become plain numbers and lists; NaN and inf become null."""
