@@ -7,6 +7,7 @@
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
+    brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -361,6 +362,23 @@ def _params(args: argparse.Namespace) -> int:
     return 0
 
 
+# bench fuzz
+def _fuzz_args(p: argparse.ArgumentParser) -> None:
+    from .bench import fuzz
+
+    fuzz.add_arguments(p)
+
+
+def _fuzz(args: argparse.Namespace) -> int:
+    from .bench import fuzz
+
+    if args.n < 1 or args.render_every < 1:
+        raise ValueError(f"--n {args.n} --render-every {args.render_every}: expected >= 1")
+    run = lambda: fuzz.run(args.n, args.seed, args.render_every, progress=_progress)  # noqa: E731
+    rc = _report("fuzz", args, run, fuzz.table)
+    return rc
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -372,6 +390,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "batch": ("characters per second of `brushwork batch`, and where the time goes", _bench_batch_args,
               _bench_batch),
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
+    "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
+             _fuzz_args, _fuzz),
 }
 
 
@@ -396,11 +416,18 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a usage error in one line: `brushwork: error: ...` and exit 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"brushwork: error: {self.prog}: {' '.join(message.split())}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The argparse parser of the whole CLI."""
+    """The argparse parser of the whole CLI (its subcommands' parsers of the same one-line kind)."""
     from . import __version__
 
-    parser = argparse.ArgumentParser(prog="brushwork", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="brushwork", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"brushwork {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True

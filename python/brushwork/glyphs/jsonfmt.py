@@ -74,7 +74,7 @@ def _stroke_kind(where: str, at: str, s: dict, pts: np.ndarray) -> str:
     kind = s.get("kind")
     if kind is None:
         return infer_stroke_type(pts)
-    if kind not in STROKE_TYPES:
+    if not isinstance(kind, str) or kind not in STROKE_TYPES:
         raise GlyphError(where, f"{at}.kind: {kind!r:.20} is not a CJK stroke (U+31C0..U+31E3)")
     return kind
 

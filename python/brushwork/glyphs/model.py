@@ -97,7 +97,7 @@ class Stroke:
         _check_extent(self.points)
         if k < 2 or not np.any(np.abs(np.diff(self.points, axis=0)) > 0):
             raise GlyphError("Stroke", "points: empty stroke (fewer than 2 distinct points)")
-        if self.kind not in STROKE_TYPES:
+        if not isinstance(self.kind, str) or self.kind not in STROKE_TYPES:
             raise GlyphError("Stroke", f"kind: {self.kind!r} is not a CJK stroke (U+31C0..U+31E3)")
         for name in ("pressure", "tilt_deg", "speed"):
             if getattr(self, name) is not None:
