@@ -180,21 +180,26 @@ def run_cli(args: list[str], timeout_s: float = TIMEOUT_S) -> tuple[int, str, st
 def verdict(rc: int, stderr: str, outputs: list[Path], folder: Path) -> str | None:
     """Why a CLI run failed the fuzz contract, or None: exit 0 with its outputs whole, or exit 2
     with one `brushwork: error:` line and no output file or temporary file left."""
-    from ..files import decodes
-
-    left = sorted(p.name for p in folder.iterdir() if p.name.startswith(".tmp-") or p.name.startswith(".brushwork-"))
+    left = sorted(p.name for p in folder.iterdir() if p.name.startswith((".tmp-", ".brushwork-")))
     if left:
         return f"temporary files left: {left}"
     if rc == 0:
-        broken = [p.name for p in outputs if p.is_file() and p.suffix.lower() != ".json" and not decodes(p)]
-        return f"exit 0 with a partial file {broken}" if broken else None
+        return _partial(outputs)
     if rc != 2:
         return f"exit code {rc}: {stderr.strip()[-300:]}"
     lines = stderr.strip().splitlines()
     if len(lines) != 1 or not lines[0].startswith("brushwork: error: "):
         return f"not one error line: {stderr.strip()[-300:]}"
-    written = [p.name for p in outputs if p.exists() and p.is_file()]
+    written = [p.name for p in outputs if p.is_file()]
     return f"exit 2 left an output file {written}" if written else None
+
+
+def _partial(outputs: list[Path]) -> str | None:
+    """An image among `outputs` that does not decode, or None."""
+    from ..files import decodes
+
+    broken = [p.name for p in outputs if p.is_file() and p.suffix.lower() != ".json" and not decodes(p)]
+    return f"exit 0 with a partial file {broken}" if broken else None
 
 
 def check_argv(args: list[str], folder: Path) -> str | None:

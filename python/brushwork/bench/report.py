@@ -45,6 +45,13 @@ def _cell(v: Any) -> str:
     return format_value(v).replace("\r", " ").replace("\n", " ").replace("|", "\\|")
 
 
+def _numeric(rows: Sequence[dict], column: str) -> bool:
+    """A column is numeric when every non-empty value in it is a number."""
+    vals = [r.get(column) for r in rows if r.get(column) is not None]
+    return bool(vals) and all(isinstance(v, (int, float)) and not isinstance(v, bool) or hasattr(v, "dtype")
+                              for v in vals)
+
+
 def markdown_table(rows: Sequence[dict], columns: Sequence[str],
                    headers: Sequence[str] | None = None) -> str:
     """A GitHub-flavoured Markdown table of `rows` (dicts) showing `columns` (keys) in order.
@@ -57,12 +64,7 @@ def markdown_table(rows: Sequence[dict], columns: Sequence[str],
     if len(headers) != len(columns):
         raise ValueError(f"markdown_table: {len(headers)} headers for {len(columns)} columns")
     cells = [[_cell(r.get(c)) for c in columns] for r in rows]
-    # a column is numeric when every non-empty value in it is a number
-    numeric = []
-    for c in columns:
-        vals = [r.get(c) for r in rows if r.get(c) is not None]
-        numeric.append(bool(vals) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) or hasattr(v, "dtype") for v in vals))
+    numeric = [_numeric(rows, c) for c in columns]
     widths = [max([len(str(h))] + [len(row[i]) for row in cells]) for i, h in enumerate(headers)]
     # header, separator, body
     lines = ["| " + " | ".join(str(h).ljust(w) for h, w in zip(headers, widths)) + " |"]
