@@ -249,7 +249,8 @@ def _batch(args: argparse.Namespace) -> int:
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples)
-    print(batch.summary(res, batch.write_failures(res, args.out)))
+    failures = batch.write_failures(res, args.out)
+    print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
         from .sheet import contact_sheet
 
@@ -257,7 +258,11 @@ def _batch(args: argparse.Namespace) -> int:
         print(f"wrote {contact_sheet(batch.sheet_cells(chars, args.out, failed), args.sheet)}")
     if res.interrupted:
         return 130
-    return 2 if res.failed else 0
+    if res.failed:
+        print(f"brushwork: error: {_plural(len(res.failed), 'character')} failed (listed in {failures})",
+              file=sys.stderr)
+        return 2
+    return 0
 
 
 def _bench_glyphs_args(p: argparse.ArgumentParser) -> None:
