@@ -16,7 +16,8 @@ from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import GlyphError, load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
-from brushwork.motion import Style, Writer, _resample, render_glyph
+from brushwork.writing import Style, Writer, render_glyph
+from brushwork.writing.targets import _resample
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -67,11 +68,50 @@ def test_styles_load_and_bad_styles_are_named(tmp_path):
     with pytest.raises(ValueError, match="mine.json: not a style file"):
         Style.load(str(bad))
     kai = json.loads((Path(__file__).resolve().parents[1] / "python" / "brushwork" / "styles" / "kai.json").read_text(encoding="utf-8"))
-    for key, value, words in (("taper_from", 1.5, "taper_from 1.5: expected a fraction"),
-                              ("taper_collapse", -0.1, "taper_collapse -0.1: expected a fraction")):
+    for key, value, words in (("taper_from", 1.5, "taper_from = 1.5: expected 0..1"),
+                              ("taper_collapse", -0.1, "taper_collapse = -0.1: expected 0..1"),
+                              ("em_mm", "abc", 'em_mm = "abc": expected a number'),
+                              ("tilt_deg", "abc", 'tilt_deg = "abc": expected a number'),
+                              ("step_mm", 0, "step_mm = 0: expected 0.1..20 mm"),
+                              ("step_mm", -1, "step_mm = -1: expected"),
+                              ("hover", -5, "hover = -5: expected 0..1 L"),
+                              ("entry_frames", 2.5, "entry_frames = 2.5: expected an integer"),
+                              ("width_em", 0, "width_em = 0: expected > 0"),
+                              ("preset", "huge", 'preset = "huge": expected one of'),
+                              ("scene", {"glitter": True}, "scene = .*: expected Scene settings"),
+                              ("profiles", {"plain": [[0, 1]]}, "profiles = .*: expected the families"),
+                              ("offset_em", [0, "x"], "offset_em = .*: expected a number"),
+                              ("colour", "red", "unknown field\\(s\\) colour")):
         bad.write_text(json.dumps(dict(kai, **{key: value})), encoding="utf-8")
         with pytest.raises(ValueError, match=f"mine.json: {words}"):
             Style.load(str(bad))
+    with pytest.raises(ValueError, match="style file not found: .*absent.json"):
+        Style.load(str(tmp_path / "absent.json"))
+
+
+@pytest.mark.parametrize("field_name, value", [("em_mm", "abc"), ("tilt_deg", "abc"), ("step_mm", 0),
+                                                ("entry_frames", 2.5), ("step_mm", -1), ("hover", -5)])
+def test_a_bad_style_file_is_one_line_and_exit_2(tmp_path, capsys, field_name, value):
+    kai = json.loads((Path(__file__).resolve().parents[1] / "python" / "brushwork" / "styles" / "kai.json").read_text(encoding="utf-8"))
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(dict(kai, **{field_name: value})), encoding="utf-8")
+    out = tmp_path / "x.png"
+    assert run_cli("render", "一", "-o", out, "--size", 16, "--style", bad) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"bad.json: {field_name} = " in err and not out.exists()
+
+
+def test_the_style_table_documents_and_validates_the_same_fields(capsys):
+    from brushwork.writing.style import FIELDS, style_table
+
+    table = style_table().splitlines()
+    assert table[0] == "| field | unit | range | default | meaning |"
+    assert [row.split("|")[1].strip() for row in table[2:]] == [f.name for f in FIELDS]
+    assert {f.name for f in FIELDS} == set(Style.__dataclass_fields__)
+    for name in Style.names():              # the shipped styles pass their own table
+        Style.load(name)
+    assert run_cli("params", "--style") == 0
+    assert capsys.readouterr().out.strip() == style_table()
 
 
 def test_render_writes_a_row_of_characters(tmp_path, capsys):
@@ -83,6 +123,66 @@ def test_render_writes_a_row_of_characters(tmp_path, capsys):
     # both cells hold a character
     assert ink[:, :SIZE].mean() > 0.05 and ink[:, SIZE:].mean() > 0.05
     assert "wrote" in capsys.readouterr().out
+
+
+def test_render_writes_every_character_a_repeated_one_again(tmp_path, capsys):
+    out = tmp_path / "row.png"
+    assert run_cli("render", "永和永", "-o", out, "--size", 32, "--source", MMAH) == 0
+    img = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE)
+    assert img.shape == (32, 96)
+    ink = img < 128
+    assert all(ink[:, 32 * k:32 * (k + 1)].mean() > 0.05 for k in range(3))
+    assert "(3 characters," in capsys.readouterr().out
+    assert run_cli("render", "永", "-o", out, "--size", 32, "--source", MMAH) == 0
+    assert "(1 character," in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("suffix, magic", [(".jpg", b"\xff\xd8"), (".jpeg", b"\xff\xd8"), (".tif", b"II"),
+                                           (".bmp", b"BM"), (".webp", b"RIFF"), (".png", b"\x89PNG")])
+def test_render_writes_the_format_its_suffix_names(tmp_path, suffix, magic):
+    out = tmp_path / f"x{suffix}"
+    assert run_cli("render", "永", "-o", out, "--size", 32, "--source", MMAH) == 0
+    assert out.read_bytes()[:len(magic)] == magic
+    assert cv2.imread(str(out)).shape[:2] == (32, 32)
+
+
+@pytest.mark.parametrize("name, extra, words", [
+    ("x.gif", [], "cannot write a .gif image"), ("x", [], "suffix-less"),
+    ("x.jpg", ["--bits", "16"], "8 bits per channel"), ("x.jpg", ["--transparent"], "no transparency"),
+    ("x.png", ["--seed", "-1"], "--seed -1: expected a non-negative integer"),
+    ("x.png", ["--style", "absent.json"], "style file not found: absent.json"),
+    ("missing/x.png", [], "no such folder")])
+def test_render_refuses_in_one_line_what_it_cannot_write(tmp_path, capsys, monkeypatch, name, extra, words):
+    monkeypatch.chdir(tmp_path)
+    assert run_cli("render", "永", "-o", name, "--size", 16, "--source", MMAH, *extra) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err and "Errno" not in err and ".tmp" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_render_limits_the_text(tmp_path, capsys):
+    assert run_cli("render", "一" * (batch.MAX_TEXT_CHARS + 1), "-o", tmp_path / "x.png", "--size", 16) == 2
+    assert f"at most {batch.MAX_TEXT_CHARS}" in capsys.readouterr().err
+
+
+def test_batch_into_a_file_is_one_plain_line(tmp_path, capsys):
+    (tmp_path / "f").write_text("x")
+    for out in (tmp_path / "f", tmp_path / "f" / "sub"):
+        assert run_cli("batch", "--chars", "永", "--out", out, "--source", MMAH, "--no-progress") == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "Errno" not in err and str(tmp_path / "f") in err
+
+
+@pytest.mark.parametrize("damage", ["empty", "truncated"])
+def test_a_resumed_batch_renders_again_a_file_that_does_not_decode(tmp_path, capsys, damage):
+    out = tmp_path / "out"
+    assert run_cli("batch", "--chars", "永和", "--out", out, "--size", 32, "--source", MMAH, "--no-progress") == 0
+    capsys.readouterr()
+    whole = (out / "U+6C38.png").read_bytes()
+    (out / "U+6C38.png").write_bytes(b"" if damage == "empty" else whole[:len(whole) // 2])
+    assert run_cli("batch", "--chars", "永和", "--out", out, "--size", 32, "--source", MMAH, "--no-progress") == 0
+    assert "1 written, 1 already there" in capsys.readouterr().out
+    assert (out / "U+6C38.png").read_bytes() == whole
 
 
 def test_a_row_wider_than_the_paper_allows_is_refused(mmah_glyphs):
@@ -493,7 +593,8 @@ def _trace_exit(style, size=512):
     """The 撇 of the bundled 人 written alone at `size` px: per frame from its first touch, the
     press asked (L), the footprint's width across the travel (mm) and the root's xy (mm), and the
     index of the first exit frame (the lift)."""
-    from brushwork.motion import _centroid_and_width, family, writing_paper
+    from brushwork.writing import family, writing_paper
+    from brushwork.writing.targets import _centroid_and_width
 
     glyph = load_source("default", "人")["人"]
     assert family(glyph.strokes[0].kind) == "tapered"

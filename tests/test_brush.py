@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import brushwork as bw
-from brushwork.motions import pressed_drag, press_drag_turn_lift, replay, straight_stroke
+from brushwork.recorded import pressed_drag, press_drag_turn_lift, replay, straight_stroke
 from tolerances import (DRAG_WIDTH_PER_DIAMETER, FOOTPRINT_DEPTHS, FOOTPRINT_DIP, PENETRATION_FRAC,
                         STRAIGHT_ANGLE)
 
@@ -241,7 +241,7 @@ def test_a_pressed_tilted_drag_keeps_its_belly_on_the_paper():
 
 
 def test_a_copied_brush_steps_exactly_like_the_original():
-    from brushwork.motions import press_drag_turn_lift
+    from brushwork.recorded import press_drag_turn_lift
 
     a = bw.Brush("small")
     poses = press_drag_turn_lift(a.model, 80)

@@ -156,7 +156,8 @@ def test_parse_svg_path_commands():
     ("M 1 2 X 3 4", "unexpected character 'X'"),
     ("M 1 2 L nan 3", "unexpected character 'n'"),
     ("M 0 0 A 5 5 0 0 1 10 10", "arc commands"),
-    ("M 0 0 L 1e999 0", "not finite"),
+    ("M 0 0 L 1e999 0", "beyond the limit"),
+        ("M 0 0 L 1e300 0", "beyond the limit"),
 ])
 def test_parse_svg_path_rejects_malformed_data(d, problem):
     with pytest.raises(GlyphError, match="svg path: .*" + problem):
@@ -377,7 +378,7 @@ def test_pieces_counts_a_broken_stroke_and_a_stray_dot():
 def test_a_sliver_footprint_keeps_its_centre_on_the_ink():
     # an outer loop and a hole that nearly cancel (a footprint of 1e-4 mm^2 net) have an area
     # centroid far off the ink; the driver would aim the root there (one threw it 200 mm)
-    from brushwork.motion import _centroid_and_width
+    from brushwork.writing.targets import _centroid_and_width
 
     outer = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])          # counter-clockwise
     e, dx = 0.99995, 2e-3
@@ -388,3 +389,33 @@ def test_a_sliver_footprint_keeps_its_centre_on_the_ink():
     # an ordinary footprint keeps its area centroid
     tri = np.array([[0.0, 0.0], [3.0, 0.0], [0.0, 3.0]])
     np.testing.assert_allclose(_centroid_and_width([tri], 0.0)[0], [1.0, 1.0])
+
+
+def _doc(strokes, em_box=(0, 0, 1, 1)):
+    return {"format": "brushwork-glyph", "version": 1, "char": "一", "codepoint": 0x4E00, "em_box": list(em_box),
+            "y_down": False, "strokes": strokes}
+
+
+@pytest.mark.parametrize("doc, words", [
+    (_doc([{"points": [[0, 0], [1e300, -1e300]]}]), "strokes[0].points[1]: 1e+300 is beyond the limit"),
+    (_doc([{"points": [[0, 0], [1, 1]]}], em_box=(-1e300, 0, 1, 1)), "em_box[0]: -1e+300 is beyond the limit"),
+    (_doc([{"points": [[i / 20000, 0.5] for i in range(20001)]}]), "strokes[0].points: 20001 points, more than 10000"),
+    (_doc([{"points": [[0, 0], [1, 1]]}] * 101), "strokes: 101 strokes, more than 100"),
+    (_doc([{"points": [[0, 0], [3, 0.5]]}]), "strokes[0].points: a point lies more than 1 em outside"),
+    (_doc([{"points": [[0, 0], [1, 1]] * 20}]), "strokes[0].points: the centreline is .* em long, more than 20"),
+    (_doc([{"d": "M 0 0 " + "L 1 1 L 0 0 " * 30000}]), "strokes[0].d: svg path: 360006 characters, more than 200000"),
+])
+def test_glyph_limits_are_checked_as_the_file_is_read(tmp_path, doc, words):
+    from brushwork.glyphs.model import MAX_POINTS, MAX_STROKES
+
+    path = tmp_path / "U+4E00.json"
+    path.write_text(json.dumps(doc), encoding="utf-8")
+    with pytest.raises(GlyphError, match=re.escape(str(path)) + ": " + words.replace("[", r"\[").replace("]", r"\]").replace("+", r"\+")):
+        load_glyph(path)
+    described = json.dumps(schema())
+    assert f"{MAX_POINTS}" in described and f"{MAX_STROKES}" in described
+
+
+def test_the_two_glyph_schemas_are_the_same():
+    root = Path(__file__).resolve().parents[1]
+    assert (root / "glyphs" / "schema.json").read_text() == (root / "python" / "brushwork" / "glyphs" / "schema.json").read_text()

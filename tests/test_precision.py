@@ -11,7 +11,7 @@ import pytest
 import brushwork as bw
 from brushwork import cli
 from brushwork.bench import precision
-from brushwork.motions import flick
+from brushwork.recorded import flick
 
 REQUIRED_KEYS = {"solver", "setting", "default", "ms_per_frame_median", "energy_gap_median",
                  "skeleton_error_mm_median", "footprint_error_median"}

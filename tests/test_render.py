@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import brushwork as bw
-from brushwork.motions import along_path, straight_stroke
+from brushwork.recorded import along_path, straight_stroke
 from tolerances import (INK_AREA_REL, INK_CONSERVATION_REL, MASK_IOU_RESOLUTION, MASK_THRESHOLD, MESH_L1_REL,
                         MESH_INK_REL)
 

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import brushwork as bw
-from brushwork.motions import mean_iterations, press_drag_turn_lift, pressed_drag, replay
+from brushwork.recorded import mean_iterations, press_drag_turn_lift, pressed_drag, replay
 from tolerances import CARRIED_HESSIAN_RATIO, GRADIENT_REL, MERIT_SLACK, assert_rel_close
 
 

@@ -19,8 +19,10 @@ import numpy as np
 
 from .glyphs import load_source
 from .glyphs.sources import add_source_hint
-from .motion import Style, Writer, check_samples, check_size, writing_paper
+from .files import decodes, os_error_text, save_paper
 from .paper import Paper
+from .writing import Style, Writer, check_samples, check_size, writing_paper
+from .writing.driver import MAX_SIDE
 
 # each worker on one core: llvmpipe rasterises in the calling thread (LP_NUM_THREADS=0; with 1
 # it hands every draw to a second thread and the two take turns: ~18% slower, measured on
@@ -33,10 +35,44 @@ def output_name(char: str) -> str:
     return f"U+{ord(char):04X}.png"
 
 
+MAX_TEXT_CHARS = 256     # characters `brushwork render` writes on one image (a batch takes any number)
+MAX_SEED = 2 ** 63 - 1
+
+
 def check_bits(bits: int) -> int:
     if bits not in (8, 16):
         raise ValueError(f"--bits {bits}: expected 8 or 16")
     return bits
+
+
+def check_seed(seed: int) -> int:
+    if not 0 <= seed <= MAX_SEED:
+        raise ValueError(f"--seed {seed}: expected a non-negative integer (0..2^63-1)")
+    return seed
+
+
+def text_chars(text: str) -> str:
+    """The characters `render` writes: every non-space character of text, in order, a repeated
+    one written again; ValueError when there are none or more than MAX_TEXT_CHARS."""
+    chars = "".join(c for c in text if not c.isspace())
+    if not chars:
+        raise ValueError("no characters to render")
+    if len(chars) > MAX_TEXT_CHARS:
+        raise ValueError(f"{len(chars)} characters: `render` writes at most {MAX_TEXT_CHARS} on one image; "
+                         "use `brushwork batch` for more")
+    return chars
+
+
+def check_request(chars: str, size: int, bits: int, samples: int | None, seed: int) -> None:
+    """The numbers of a render request, checked before any work: size, bits, samples, seed and
+    the image's width (chars x size px, at most writing.MAX_SIDE)."""
+    check_size(size)
+    check_bits(bits)
+    check_samples(samples)
+    check_seed(seed)
+    if len(chars) * size > MAX_SIDE:
+        raise ValueError(f"{len(chars)} characters x {size} px = {len(chars) * size} px wide: more than "
+                         f"{MAX_SIDE}; use a smaller size or `brushwork batch`")
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
@@ -123,7 +159,7 @@ def _render_one(task: tuple) -> tuple:
         paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], _JOB["samples"],
                            paper=_JOB.get("paper"))
         _JOB["paper"] = paper
-        paper.save(out, bits=_JOB["bits"], background=_JOB["background"])
+        save_paper(paper, out, bits=_JOB["bits"], background=_JOB["background"])
     except Exception as err:     # reported at the end with the character; the batch goes on
         _JOB.pop("paper", None)
         return char, time.perf_counter() - t0, f"{type(err).__name__}: {err}"
@@ -181,28 +217,52 @@ class Progress:
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None) -> BatchResult:
-    """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there."""
-    size, bits = check_size(size), check_bits(bits)
+    """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
+    (whole: a file that does not decode is rendered again)."""
+    size, bits, seed, samples = check_size(size), check_bits(bits), check_seed(seed), check_samples(samples)
     Style.load(style)                                        # a bad style fails now, not in every worker
     jobs = int(jobs)
     if jobs < 1:
         raise ValueError(f"--jobs {jobs}: expected >= 1")
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    if not os.access(out, os.W_OK):
-        raise PermissionError(f"cannot write into {out}: the folder is not writable")
+    out = _output_folder(out_dir)
     result = BatchResult(source=source)
-    todo = []
-    for c in dict.fromkeys(chars):
-        (result.skipped if (out / output_name(c)).is_file() else todo).append(c)
+    todo = _plan(chars, out, result)
     errors: list = []
     glyphs = load_source(source, "".join(todo), variant=variant, errors=errors) if todo else {}
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress)
+    return result
+
+
+def _output_folder(out_dir: str | os.PathLike) -> Path:
+    """The batch's output folder, made when missing; OSError in plain words when it cannot be."""
+    out = Path(out_dir)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise NotADirectoryError(f"cannot write into {out}: it is a file, not a folder") from None
+    except OSError as err:
+        raise OSError(err.errno, os_error_text(err, out, "make the folder")) from None
+    if not os.access(out, os.W_OK):
+        raise PermissionError(f"cannot write into {out}: the folder is not writable")
+    return out
+
+
+def _plan(chars: str, out: Path, result: BatchResult) -> list:
+    """The characters to render; those whose file is there and decodes go to result.skipped."""
+    todo = []
+    for c in dict.fromkeys(chars):
+        path = out / output_name(c)
+        (result.skipped if path.is_file() and decodes(path) else todo).append(c)
+    return todo
+
+
+def _run_tasks(tasks: list, jobs: int, init: tuple, result: BatchResult, progress: bool) -> None:
+    """Render the tasks in `jobs` workers into result (written, failed, seconds, interrupted)."""
     bar = Progress(len(tasks)) if progress and tasks else None
     t0 = time.perf_counter()
-    init = (style, size, seed, bits, background, check_samples(samples))
     try:
         for char, _secs, err in parallel_map(_render_one, tasks, jobs, _init_worker, init):
             if err is None:
@@ -217,7 +277,6 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
         result.seconds = time.perf_counter() - t0
         if bar is not None:
             bar.close()
-    return result
 
 
 def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple):

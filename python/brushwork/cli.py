@@ -7,6 +7,7 @@
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
+    brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -149,7 +150,7 @@ SOURCE_HELP = ("where the strokes come from: default (the bundled glyphs, then K
 
 def _look_args(p: argparse.ArgumentParser, size: int = 1024) -> None:
     """The options every rendering command shares: size, style, source, seed."""
-    from .motion import Style
+    from .writing import Style
 
     p.add_argument("--size", type=int, default=size, help=f"px per character, 16..8192 (default {size})")
     p.add_argument("--style", default="kai", help=f"writing style: {', '.join(Style.names())} or a JSON file "
@@ -167,39 +168,47 @@ def _image_args(p: argparse.ArgumentParser) -> None:
 
 
 def _render_text_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("text", help="the characters to write, left to right on one image")
-    p.add_argument("-o", "--output", metavar="FILE", required=True, help="the PNG to write")
+    p.add_argument("text", help="the characters to write, left to right on one image (spaces ignored)")
+    p.add_argument("-o", "--output", metavar="FILE", required=True,
+                   help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp")
     _look_args(p)
     _image_args(p)
 
 
 def _render_text(args: argparse.Namespace) -> int:
-    from .batch import check_bits, check_samples, check_size, parse_charset, text_paper
-    from .bench.report import check_writable
-    from .glyphs import GlyphError, load_source
-    from .glyphs.sources import add_source_hint
-    from .motion import Style
+    from .batch import check_request, text_chars, text_paper
+    from .files import check_image_path, save_paper
+    from .writing import Style
 
-    chars = parse_charset(args.text)
-    if not chars:
-        raise ValueError("no characters to render")
-    check_size(args.size)
-    check_bits(args.bits)
-    check_samples(args.samples)
+    chars = text_chars(args.text)
+    check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
-    check_writable(args.output)                   # before the work, not after
-    try:
-        glyphs = load_source(args.source, chars)  # an unknown character: GlyphError naming the source
-    except GlyphError as err:
-        if getattr(err, "unknown", False):        # say how to add one (batch says it in its summary)
-            raise ValueError(f"{err}; {add_source_hint(args.source)}") from err
-        raise
+    check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
+    glyphs = _load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples)
-    path = paper.save(args.output, bits=args.bits, background="transparent" if args.transparent else "white")
-    print(f"wrote {path} ({len(chars)} characters, {paper.width_px} x {paper.height_px} px, "
+    path = save_paper(paper, args.output, bits=args.bits,
+                      background="transparent" if args.transparent else "white")
+    print(f"wrote {path} ({_plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
     return 0
+
+
+def _plural(n: int, noun: str) -> str:
+    return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
+
+
+def _load_glyphs(source: str, chars: str) -> dict:
+    """The glyphs of chars from the source; an unknown character says how to add one."""
+    from .glyphs import GlyphError, load_source
+    from .glyphs.sources import add_source_hint
+
+    try:
+        return load_source(source, chars)
+    except GlyphError as err:
+        if getattr(err, "unknown", False):        # say how to add one (batch says it in its summary)
+            raise ValueError(f"{err}; {add_source_hint(source)}") from err
+        raise
 
 
 def _batch_args(p: argparse.ArgumentParser) -> None:
@@ -240,7 +249,8 @@ def _batch(args: argparse.Namespace) -> int:
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples)
-    print(batch.summary(res, batch.write_failures(res, args.out)))
+    failures = batch.write_failures(res, args.out)
+    print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
         from .sheet import contact_sheet
 
@@ -248,7 +258,11 @@ def _batch(args: argparse.Namespace) -> int:
         print(f"wrote {contact_sheet(batch.sheet_cells(chars, args.out, failed), args.sheet)}")
     if res.interrupted:
         return 130
-    return 2 if res.failed else 0
+    if res.failed:
+        print(f"brushwork: error: {_plural(len(res.failed), 'character')} failed (listed in {failures})",
+              file=sys.stderr)
+        return 2
+    return 0
 
 
 def _bench_glyphs_args(p: argparse.ArgumentParser) -> None:
@@ -341,14 +355,33 @@ def _gallery(args: argparse.Namespace) -> int:
 
 def _params_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--preset", default="medium", help="brush preset whose values to show (default medium)")
+    p.add_argument("--style", action="store_true", help="the fields of a style file instead of the brush's")
 
 
 def _params(args: argparse.Namespace) -> int:
     from .bench.report import parameter_table
+    from .writing import style_table
 
     _check_preset(args.preset)
-    print(parameter_table(args.preset))
+    print(style_table() if args.style else parameter_table(args.preset))
     return 0
+
+
+# bench fuzz
+def _fuzz_args(p: argparse.ArgumentParser) -> None:
+    from .bench import fuzz
+
+    fuzz.add_arguments(p)
+
+
+def _fuzz(args: argparse.Namespace) -> int:
+    from .bench import fuzz
+
+    if args.n < 1 or args.render_every < 1:
+        raise ValueError(f"--n {args.n} --render-every {args.render_every}: expected >= 1")
+    run = lambda: fuzz.run(args.n, args.seed, args.render_every, progress=_progress)  # noqa: E731
+    rc = _report("fuzz", args, run, fuzz.table)
+    return rc
 
 
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
@@ -362,6 +395,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "batch": ("characters per second of `brushwork batch`, and where the time goes", _bench_batch_args,
               _bench_batch),
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
+    "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
+             _fuzz_args, _fuzz),
 }
 
 
@@ -380,16 +415,24 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "batch": ("render many characters, one PNG each, in parallel; resumable", _batch_args, _batch),
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
-    "params": ("print every brush parameter with its unit, range and value", _params_args, _params),
+    "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",
+               _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
 }
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a usage error in one line: `brushwork: error: ...` and exit 2."""
+
+    def error(self, message: str):
+        self.exit(2, f"brushwork: error: {self.prog}: {' '.join(message.split())}\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The argparse parser of the whole CLI."""
+    """The argparse parser of the whole CLI (its subcommands' parsers of the same one-line kind)."""
     from . import __version__
 
-    parser = argparse.ArgumentParser(prog="brushwork", description=__doc__.splitlines()[0])
+    parser = _Parser(prog="brushwork", description=__doc__.splitlines()[0])
     parser.add_argument("--version", action="version", version=f"brushwork {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
@@ -409,11 +452,22 @@ def main(argv: list[str] | None = None) -> int:
         return int(args.handler(args))
     # user-facing failures: one line, exit 2
     except (ValueError, OSError) as exc:
-        print(f"brushwork: error: {exc}", file=sys.stderr)
+        print(f"brushwork: error: {_one_line(exc)}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("brushwork: interrupted", file=sys.stderr)
         return 130
+
+
+def _one_line(exc: Exception) -> str:
+    """The error as one plain line: an OSError that carries its file names it, without errno."""
+    if isinstance(exc, OSError) and exc.filename is not None:
+        from .files import os_error_why
+
+        return f"{exc.filename}: {os_error_why(exc)}"
+    if isinstance(exc, OSError) and exc.strerror:
+        return " ".join(exc.strerror.split())
+    return " ".join(str(exc).split())
 
 
 if __name__ == "__main__":

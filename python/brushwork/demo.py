@@ -13,7 +13,7 @@ import numpy as np
 
 from ._core import BrushModel, MeshOptions
 from .brush import Brush
-from .motions import press_drag_turn_lift
+from .recorded import press_drag_turn_lift
 
 
 def _draw_brush_3d(ax, brush: Brush, title: str) -> None:

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .brush import Brush
-from .motions import along_path
+from .recorded import along_path
 from .paper import Paper, write_png
 from .scene import Scene
 
@@ -135,7 +135,7 @@ def render_views(path: str | os.PathLike, width_px: int = 480, height_px: int = 
     """The brush over its stroke in the three brush-view modes, side by side (seed Figure 8)."""
     import cv2
 
-    from .motions import straight_stroke
+    from .recorded import straight_stroke
     from .view import BrushView
 
     brush = Brush("medium")

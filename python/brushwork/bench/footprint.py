@@ -50,7 +50,7 @@ def measure(model: BrushModel, tilt: float, depth: float, drag_frames: int = 0) 
 def flicker(model: BrushModel, tilt: float = 15.0, press: float = 0.25) -> float:
     """Mean frame-to-frame change of the footprint area over 24 frames of a drag at half a belly
     radius per frame, relative to the mean area (0: steady; 1.7: the area flips every frame)."""
-    from ..motions import straight_stroke
+    from ..recorded import straight_stroke
 
     b = Brush(model)
     areas = []

@@ -22,7 +22,7 @@ import numpy as np
 from .. import batch as bt
 from ..glyphs import load_source
 from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, pieces, stroke_masks
-from ..motion import Style, Writer, writing_paper
+from ..writing import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 
@@ -89,6 +89,29 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     size = bt.check_size(size)
     Style.load(style)
     errors: list = []
+    glyphs = _scorable(source, count, errors)
+    rows, overlays, failed = {}, {}, [(getattr(e, "char", "?"), str(e)) for e in errors]
+    t0 = time.perf_counter()
+    for char, score, secs, small, err in _scored(glyphs, jobs, (style, size, seed), progress):
+        if err is None:
+            rows[char], overlays[char] = dict(score, seconds=secs), small
+        else:
+            failed.append((char, err))
+    wall = time.perf_counter() - t0
+    order = [c for c in glyphs if c in rows]
+    result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
+              "characters": len(order), "failed": failed, **_summary(rows, order),
+              "chars_per_s": len(order) / wall if wall > 0 else None}
+    if sheet:
+        from ..sheet import Cell, contact_sheet
+
+        cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
+        result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
+    return result
+
+
+def _scorable(source: str, count: int | None, errors: list) -> dict:
+    """The glyphs of `source` (the first `count`), each with stroke outlines; ValueError otherwise."""
     glyphs = load_source(source, None, errors=errors)
     if count is not None:
         glyphs = dict(list(glyphs.items())[:count])
@@ -98,42 +121,41 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     if lacking:
         raise ValueError(f"{source}: {len(lacking)} glyphs carry no stroke outlines to score against "
                          "(use a Make Me a Hanzi source, mmah:PATH)")
+    return glyphs
+
+
+def _scored(glyphs: dict, jobs: int, init: tuple, progress: bool):
+    """_score over the glyphs in `jobs` workers, with a progress bar; results as they finish."""
     bar = bt.Progress(len(glyphs)) if progress else None
-    rows, overlays, failed = {}, {}, [(getattr(e, "char", "?"), str(e)) for e in errors]
-    t0 = time.perf_counter()
     try:
-        for char, score, secs, small, err in bt.parallel_map(_score, list(glyphs.items()), jobs, _init,
-                                                              (style, size, seed)):
-            if err is None:
-                rows[char], overlays[char] = dict(score, seconds=secs), small
-            else:
-                failed.append((char, err))
+        for item in bt.parallel_map(_score, list(glyphs.items()), jobs, _init, init):
             if bar is not None:
-                bar.update(err is None)
+                bar.update(item[-1] is None)
+            yield item
     finally:
         if bar is not None:
             bar.close()
-    wall = time.perf_counter() - t0
-    order = [c for c in glyphs if c in rows]
+
+
+def _total(rows: dict, order: list, key: str) -> int:
+    return int(sum(rows[c][key] for c in order))
+
+
+def _summary(rows: dict, order: list) -> dict:
+    """The scores of the characters in `order` pooled: IoU statistics, the worst ten, the round
+    pen's baseline, gaps and stray dots, broken strokes, frames, and where the ink misses."""
     scores = np.array([rows[c]["iou"] for c in order])
-    worst = sorted(order, key=lambda c: rows[c]["iou"])[:10]
-    result = {
-        "source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
-        "characters": len(order), "failed": failed,
-        "mean_iou": float(scores.mean()) if len(scores) else None,
-        "p10_iou": float(np.percentile(scores, 10)) if len(scores) else None,
-        "worst_iou": float(scores.min()) if len(scores) else None,
-        "worst": [[c, rows[c]["iou"]] for c in worst],
+    stat = (lambda f: float(f(scores)) if len(scores) else None)  # noqa: E731
+    return {
+        "mean_iou": stat(np.mean), "p10_iou": stat(lambda a: np.percentile(a, 10)), "worst_iou": stat(np.min),
+        "worst": [[c, rows[c]["iou"]] for c in sorted(order, key=lambda c: rows[c]["iou"])[:10]],
         "round_pen_mean_iou": float(np.mean([rows[c]["round_pen_iou"] for c in order])) if order else None,
         "round_pen_width_em": ROUND_PEN_EM,
-        "chars_per_s": len(order) / wall if wall > 0 else None,
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
-        "extra_pieces": int(sum(rows[c]["extra_pieces"] for c in order)),
+        "extra_pieces": _total(rows, order, "extra_pieces"),
         "chars_with_extra_pieces": [c for c in order if rows[c]["extra_pieces"] > 0],
-        "specks": int(sum(rows[c]["specks"] for c in order)),
-        "broken_strokes": int(sum(rows[c]["broken_strokes"] for c in order)),
-        "frames": int(sum(rows[c]["frames"] for c in order)),
-        "held_frames": int(sum(rows[c]["held_frames"] for c in order)),
+        "specks": _total(rows, order, "specks"), "broken_strokes": _total(rows, order, "broken_strokes"),
+        "frames": _total(rows, order, "frames"), "held_frames": _total(rows, order, "held_frames"),
         # where the ink misses: per part of a stroke, missed and outside pixels as fractions of all
         # the outlines' pixels (glyphs.score.error_by_part)
         "error_by_part": _error_by_part([rows[c]["error_by_part"] for c in order]),
@@ -142,12 +164,6 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
                                              "seconds")}}
                  for c in order],
     }
-    if sheet:
-        from ..sheet import Cell, contact_sheet
-
-        cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
-        result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
-    return result
 
 
 def _error_by_part(per_char: list) -> dict:

@@ -69,7 +69,7 @@ import numpy as np
 
 from .. import BrushModel
 from ..brush import Brush
-from ..motions import flick, press_drag_turn_lift
+from ..recorded import flick, press_drag_turn_lift
 
 # the peers' linear algebra on one thread, like the core (set before SciPy loads its BLAS; a
 # value the user set is kept)
@@ -222,20 +222,28 @@ def _shapely_region(loops):
     return region.difference(unary_union(holes)) if holes else region
 
 
-def _raster_region(loops, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
-    # even-odd fill of every loop on the grid points (xs, ys): holes toggle back to empty
-    from matplotlib.path import Path
+RASTER_PX = 400       # the raster backend's grid: RASTER_PX x RASTER_PX cells over both footprints' bounds
+_SUBPIXEL_BITS = 8    # cv2.fillPoly's fixed-point fraction bits for the vertices
 
-    pts = np.column_stack([xs.ravel(), ys.ravel()])
-    inside = np.zeros(len(pts), dtype=bool)
+
+def _raster_region(loops, lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """(RASTER_PX, RASTER_PX) bool: the even-odd fill of every loop (mm) on a grid spanning lo..hi
+    (mm): each loop toggles its cells, so holes return to empty."""
+    import cv2
+
+    scale = (RASTER_PX - 1) / np.maximum(hi - lo, 1e-12) * (1 << _SUBPIXEL_BITS)
+    inside = np.zeros((RASTER_PX, RASTER_PX), dtype=np.uint8)
     for p in loops:
         if len(p) >= 3:
-            inside ^= Path(np.asarray(p)).contains_points(pts)
-    return inside
+            mask = np.zeros_like(inside)
+            px = np.round((np.asarray(p) - lo) * scale).astype(np.int32)
+            cv2.fillPoly(mask, [px], 1, lineType=cv2.LINE_8, shift=_SUBPIXEL_BITS)
+            inside ^= mask
+    return inside.astype(bool)
 
 
 def footprint_backend() -> str:
-    """"shapely" when it is installed, else "raster" (matplotlib.path on a 400 x 400 grid)."""
+    """"shapely" when it is installed, else "raster" (cv2.fillPoly on a RASTER_PX x RASTER_PX grid)."""
     try:
         import shapely  # noqa: F401
         return "shapely"
@@ -255,8 +263,7 @@ def footprint_error(a, b, backend: Optional[str] = None) -> float:
         return 0.0 if union <= 0.0 else 1.0 - ra.intersection(rb).area / union
     pts = np.vstack([p for p in a + b if len(p)])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    xs, ys = np.meshgrid(np.linspace(lo[0], hi[0], 400), np.linspace(lo[1], hi[1], 400))
-    ia, ib = _raster_region(a, xs, ys), _raster_region(b, xs, ys)
+    ia, ib = _raster_region(a, lo, hi), _raster_region(b, lo, hi)
     union = np.count_nonzero(ia | ib)
     return 0.0 if union == 0 else 1.0 - np.count_nonzero(ia & ib) / union
 
@@ -992,8 +999,10 @@ def table(result: dict) -> str:
 def plot(result: dict, path: str) -> None:
     """Log-log plot of the error medians against the median time per frame, one curve per
     solver and setting family, the shipped default starred; written atomically to `path` (PNG)."""
-    import matplotlib
-
+    try:
+        import matplotlib
+    except ImportError:
+        raise ValueError("the precision plot needs matplotlib: pip install brushwork[plot]") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

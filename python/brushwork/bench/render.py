@@ -18,7 +18,7 @@ import time
 import numpy as np
 
 from ..brush import Brush, Pose
-from ..motions import press_drag_turn_lift
+from ..recorded import press_drag_turn_lift
 from ..paper import Paper, render_info
 from ..scene import Scene
 

@@ -4,8 +4,9 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
-from typing import Any, Callable, Sequence
+from typing import Any, Sequence
+
+from ..files import check_writable, write_atomic  # noqa: F401  (the benchmarks' JSON goes through them)
 
 
 def format_value(v: Any) -> str:
@@ -44,6 +45,13 @@ def _cell(v: Any) -> str:
     return format_value(v).replace("\r", " ").replace("\n", " ").replace("|", "\\|")
 
 
+def _numeric(rows: Sequence[dict], column: str) -> bool:
+    """A column is numeric when every non-empty value in it is a number."""
+    vals = [r.get(column) for r in rows if r.get(column) is not None]
+    return bool(vals) and all(isinstance(v, (int, float)) and not isinstance(v, bool) or hasattr(v, "dtype")
+                              for v in vals)
+
+
 def markdown_table(rows: Sequence[dict], columns: Sequence[str],
                    headers: Sequence[str] | None = None) -> str:
     """A GitHub-flavoured Markdown table of `rows` (dicts) showing `columns` (keys) in order.
@@ -56,12 +64,7 @@ def markdown_table(rows: Sequence[dict], columns: Sequence[str],
     if len(headers) != len(columns):
         raise ValueError(f"markdown_table: {len(headers)} headers for {len(columns)} columns")
     cells = [[_cell(r.get(c)) for c in columns] for r in rows]
-    # a column is numeric when every non-empty value in it is a number
-    numeric = []
-    for c in columns:
-        vals = [r.get(c) for r in rows if r.get(c) is not None]
-        numeric.append(bool(vals) and all(
-            isinstance(v, (int, float)) and not isinstance(v, bool) or hasattr(v, "dtype") for v in vals))
+    numeric = [_numeric(rows, c) for c in columns]
     widths = [max([len(str(h))] + [len(row[i]) for row in cells]) for i, h in enumerate(headers)]
     # header, separator, body
     lines = ["| " + " | ".join(str(h).ljust(w) for h, w in zip(headers, widths)) + " |"]
@@ -86,45 +89,6 @@ def _jsonable(obj: Any) -> Any:
     return obj
 
 
-def check_writable(path: str | os.PathLike) -> None:
-    """Raise FileNotFoundError / PermissionError / IsADirectoryError now if `path` cannot be
-    written later (its folder is missing or read-only, or it is a folder), so that a long benchmark
-    fails before it runs rather than after."""
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise FileNotFoundError(f"cannot write {path}: no such folder {folder}")
-    if os.path.isdir(path):
-        raise IsADirectoryError(f"cannot write {path}: it is a folder")
-    if not os.access(folder, os.W_OK):
-        raise PermissionError(f"cannot write {path}: folder {folder} is not writable")
-
-
-def write_atomic(path: str | os.PathLike, write: Callable[[str], None], suffix: str = "") -> None:
-    """Call write(tmp) on a temporary file next to `path`, then os.replace it onto `path`, so that a
-    reader never sees a half-written file.  The file gets the usual umask permissions."""
-    path = os.fspath(path)
-    check_writable(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    # write next to the target so that os.replace stays on one file system
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=folder)
-    os.close(fd)
-    try:
-        # mkstemp makes the file private (0600): give it the usual umask permissions
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
-
-
-
 def parameter_table(preset: str = "medium") -> str:
     """The Markdown table of every BrushModel field: unit, range, the preset's value, meaning
     (the README's "Brush parameters"; `brushwork params` prints it)."""
@@ -138,6 +102,8 @@ def parameter_table(preset: str = "medium") -> str:
         lines.append(f"| `{row['name']}` | {row['unit']} | {lo} .. {hi} | {value} | "
                      f"{row['doc'].replace('|', '&#124;')} |")
     return "\n".join(lines)
+
+
 def write_json(path: str | os.PathLike, obj: Any) -> None:
     """Write `obj` as indented JSON to `path` atomically (a temporary file in the same folder, then
     os.replace). Numpy values become plain numbers and lists; NaN and inf become null."""

@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import BrushModel
 from ..brush import Brush
-from ..motions import press_drag_turn_lift
+from ..recorded import press_drag_turn_lift
 
 # the two Hessian modes compared: name -> warm_hessian
 MODES = (("carried", True), ("fresh", False))

@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import BrushModel, Pose
 from ..brush import Brush
-from ..motions import press_drag_turn_lift
+from ..recorded import press_drag_turn_lift
 
 # the row keys every case reports (the random and the still case add a few more)
 ROW_KEYS = ("case", "frames", "nonfinite", "worst_penetration_frac", "worst_penetration_mm",

@@ -6,7 +6,6 @@ against the JSON Schema when the optional `jsonschema` package is installed.
 from __future__ import annotations
 
 import json
-import math
 import os
 import tempfile
 from functools import lru_cache
@@ -14,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import STROKE_TYPES, Glyph, GlyphError, Stroke, check_points
+from .model import MAX_STROKES, STROKE_TYPES, Glyph, GlyphError, Stroke, check_number, check_points
 from .strokes import infer_stroke_type
 from .svgpath import parse_svg_path
 
@@ -22,6 +21,7 @@ FORMAT, VERSION = "brushwork-glyph", 1
 _TOP_KEYS = {"format", "version", "char", "codepoint", "em_box", "y_down", "source", "strokes"}
 _STROKE_KEYS = {"kind", "points", "d", "pressure", "tilt_deg", "speed", "outline"}
 _PER_POINT = ("pressure", "tilt_deg", "speed")
+MAX_FILE_BYTES = 32 << 20     # a glyph file at its limits (MAX_STROKES x MAX_POINTS) is under 32 MiB
 
 
 @lru_cache(maxsize=1)
@@ -38,11 +38,45 @@ def _numbers(where: str, name: str, value, k: int) -> np.ndarray:
     if not isinstance(value, list) or len(value) != k:
         raise GlyphError(where, f"{name}: expected a list of {k} numbers (one per point)")
     for i, v in enumerate(value):
-        if not _is_num(v):
-            raise GlyphError(where, f"{name}[{i}]: {v!r:.20} is not a number")
-        if not math.isfinite(v):
-            raise GlyphError(where, f"{name}[{i}]: {'NaN' if v != v else 'infinite'}")
+        check_number(where, f"{name}[{i}]", v)
     return np.array(value, dtype=np.float64)
+
+
+def _svg_centreline(where: str, at: str, s: dict) -> np.ndarray:
+    """The centreline of a stroke given as SVG path data `d` (one subpath), in file units."""
+    for name in _PER_POINT:
+        if name in s:
+            raise GlyphError(where, f"{at}.{name}: only allowed with 'points', not 'd'")
+    polylines = _svg(where, f"{at}.d", s["d"])
+    if len(polylines) != 1:
+        raise GlyphError(where, f"{at}.d: {len(polylines)} subpaths, expected one centreline")
+    return check_points(where, f"{at}.d", polylines[0].tolist())
+
+
+def _svg(where: str, at: str, d) -> list:
+    try:
+        return parse_svg_path(d)
+    except GlyphError as e:
+        raise GlyphError(where, f"{at}: {e}") from None
+
+
+def _per_point(where: str, at: str, s: dict, k: int) -> dict:
+    """The stroke's per-point arrays (pressure, tilt_deg, speed), each (k,), checked."""
+    extras = {name: _numbers(where, f"{at}.{name}", s[name], k) for name in _PER_POINT if name in s}
+    if "pressure" in extras and not np.all((extras["pressure"] >= 0) & (extras["pressure"] <= 1)):
+        raise GlyphError(where, f"{at}.pressure: values must lie in [0, 1]")
+    if "speed" in extras and np.any(extras["speed"] < 0):
+        raise GlyphError(where, f"{at}.speed: values must not be negative")
+    return extras
+
+
+def _stroke_kind(where: str, at: str, s: dict, pts: np.ndarray) -> str:
+    kind = s.get("kind")
+    if kind is None:
+        return infer_stroke_type(pts)
+    if not isinstance(kind, str) or kind not in STROKE_TYPES:
+        raise GlyphError(where, f"{at}.kind: {kind!r:.20} is not a CJK stroke (U+31C0..U+31E3)")
+    return kind
 
 
 def _stroke(where: str, i: int, s, glyph: Glyph) -> Stroke:
@@ -54,43 +88,20 @@ def _stroke(where: str, i: int, s, glyph: Glyph) -> Stroke:
         raise GlyphError(where, f"{at}: unknown field {extra[0]!r}")
     if ("points" in s) == ("d" in s):
         raise GlyphError(where, f"{at}: needs exactly one of 'points' or 'd'")
-    if "d" in s:
-        for name in _PER_POINT:
-            if name in s:
-                raise GlyphError(where, f"{at}.{name}: only allowed with 'points', not 'd'")
-        try:
-            polylines = parse_svg_path(s["d"])
-        except GlyphError as e:
-            raise GlyphError(where, f"{at}.d: {e}") from None
-        if len(polylines) != 1:
-            raise GlyphError(where, f"{at}.d: {len(polylines)} subpaths, expected one centreline")
-        src = check_points(where, f"{at}.d", polylines[0].tolist())
-    else:
-        src = check_points(where, f"{at}.points", s["points"])
-    extras = {name: _numbers(where, f"{at}.{name}", s[name], len(src)) for name in _PER_POINT if name in s}
-    if "pressure" in extras and not np.all((extras["pressure"] >= 0) & (extras["pressure"] <= 1)):
-        raise GlyphError(where, f"{at}.pressure: values must lie in [0, 1]")
-    if "speed" in extras and np.any(extras["speed"] < 0):
-        raise GlyphError(where, f"{at}.speed: values must not be negative")
+    src = _svg_centreline(where, at, s) if "d" in s else check_points(where, f"{at}.points", s["points"])
+    extras = _per_point(where, at, s, len(src))
     outline = s.get("outline")
     if outline is not None:
-        try:
-            parse_svg_path(outline)
-        except GlyphError as e:
-            raise GlyphError(where, f"{at}.outline: {e}") from None
+        _svg(where, f"{at}.outline", outline)
     pts = glyph.to_em(src)
-    kind = s.get("kind")
-    if kind is None:
-        kind = infer_stroke_type(pts)
-    elif kind not in STROKE_TYPES:
-        raise GlyphError(where, f"{at}.kind: {kind!r:.20} is not a CJK stroke (U+31C0..U+31E3)")
-    return Stroke(pts, kind, outline=outline, **extras)
+    try:
+        return Stroke(pts, _stroke_kind(where, at, s, pts), outline=outline, **extras)
+    except GlyphError as e:                 # a limit of the stroke in em units: name the file and stroke
+        raise GlyphError(where, f"{at}.{e.problem}") from None
 
 
-def glyph_from_dict(doc, where: str) -> Glyph:
-    """A parsed JSON document -> Glyph; GlyphError(where, problem) at the first problem."""
-    if not isinstance(doc, dict):
-        raise GlyphError(where, f"expected a JSON object, got {type(doc).__name__}")
+def _check_head(doc: dict, where: str) -> None:
+    """The fields above the strokes: format, version, char and codepoint."""
     missing = [k for k in ("format", "version", "char", "codepoint", "em_box", "y_down", "strokes") if k not in doc]
     if missing:
         raise GlyphError(where, f"missing field {missing[0]!r}")
@@ -106,6 +117,10 @@ def glyph_from_dict(doc, where: str) -> Glyph:
         raise GlyphError(where, f"char: expected one character, got {char!r:.20}")
     if not _is_num(cp) or cp != ord(char):
         raise GlyphError(where, f"codepoint: {cp!r:.20} is not ord({char!r}) = {ord(char)}")
+
+
+def _check_frame(doc: dict, where: str) -> np.ndarray:
+    """em_box (4,) in file units, y_down, source and the strokes list's length."""
     box = doc["em_box"]
     if not isinstance(box, list) or len(box) != 4:
         raise GlyphError(where, "em_box: expected [x0, y0, x1, y1]")
@@ -119,9 +134,20 @@ def glyph_from_dict(doc, where: str) -> Glyph:
     strokes = doc["strokes"]
     if not isinstance(strokes, list) or not strokes:
         raise GlyphError(where, "strokes: expected a non-empty list")
-    glyph = Glyph(char, int(cp), [], f"glyphs:{where}", tuple(box), doc["y_down"],
+    if len(strokes) > MAX_STROKES:
+        raise GlyphError(where, f"strokes: {len(strokes)} strokes, more than {MAX_STROKES}")
+    return box
+
+
+def glyph_from_dict(doc, where: str) -> Glyph:
+    """A parsed JSON document -> Glyph; GlyphError(where, problem) at the first problem."""
+    if not isinstance(doc, dict):
+        raise GlyphError(where, f"expected a JSON object, got {type(doc).__name__}")
+    _check_head(doc, where)
+    box = _check_frame(doc, where)
+    glyph = Glyph(doc["char"], int(doc["codepoint"]), [], f"glyphs:{where}", tuple(box), doc["y_down"],
                   {"source": doc["source"]} if "source" in doc else {})
-    glyph.strokes = [_stroke(where, i, s, glyph) for i, s in enumerate(strokes)]
+    glyph.strokes = [_stroke(where, i, s, glyph) for i, s in enumerate(doc["strokes"])]
     _check_schema(doc, where)
     return glyph
 
@@ -142,13 +168,19 @@ def load_glyph(path) -> Glyph:
     """Read one glyph file of our format; GlyphError "PATH: problem" for anything wrong in it."""
     path = Path(path)
     try:
+        if path.stat().st_size > MAX_FILE_BYTES:
+            raise GlyphError(path, f"larger than {MAX_FILE_BYTES} bytes: not a glyph file")
         text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as e:
-        raise GlyphError(path, f"cannot read: {e}") from None
+    except UnicodeDecodeError:
+        raise GlyphError(path, "cannot read: not UTF-8 text") from None
+    except OSError as e:
+        raise GlyphError(path, f"cannot read: {(e.strerror or type(e).__name__).lower()}") from None
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as e:
         raise GlyphError(path, f"malformed JSON: {e.msg} at line {e.lineno} column {e.colno}") from None
+    except RecursionError:
+        raise GlyphError(path, "malformed JSON: nested too deeply") from None
     return glyph_from_dict(doc, str(path))
 
 

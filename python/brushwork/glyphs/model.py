@@ -6,6 +6,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+# limits on a glyph, checked as it is read (glyphs/schema.json documents them)
+MAX_POINTS = 10_000       # points per stroke's centreline (an SVG path's after flattening)
+MAX_STROKES = 100         # strokes per glyph
+MAX_COORD = 1e6           # |coordinate| in file units, the em box's too
+EM_REACH = 1.0            # em: a centreline point lies at most this far outside the em box
+MAX_STROKE_EM = 20.0      # em: the longest centreline (the driver takes one frame per step_mm of it)
+
+
 class GlyphError(ValueError):
     """Bad glyph input. The message is "WHERE: PROBLEM", WHERE being the file (or source) at fault."""
 
@@ -86,9 +94,10 @@ class Stroke:
             raise GlyphError("Stroke", "points: empty stroke (no points)")
         self.points = _array("points", self.points, (2,), None)
         k = len(self.points)
+        _check_extent(self.points)
         if k < 2 or not np.any(np.abs(np.diff(self.points, axis=0)) > 0):
             raise GlyphError("Stroke", "points: empty stroke (fewer than 2 distinct points)")
-        if self.kind not in STROKE_TYPES:
+        if not isinstance(self.kind, str) or self.kind not in STROKE_TYPES:
             raise GlyphError("Stroke", f"kind: {self.kind!r} is not a CJK stroke (U+31C0..U+31E3)")
         for name in ("pressure", "tilt_deg", "speed"):
             if getattr(self, name) is not None:
@@ -142,21 +151,40 @@ class Glyph:
         return np.stack([x0 + uv[..., 0] * (x1 - x0), y0 + v * (y1 - y0)], axis=-1)
 
 
+def _check_extent(points: np.ndarray) -> None:
+    """The limits on a centreline (k, 2) in em units: MAX_POINTS points within EM_REACH of the
+    em box, at most MAX_STROKE_EM long; GlyphError otherwise."""
+    if len(points) > MAX_POINTS:
+        raise GlyphError("Stroke", f"points: {len(points)} points, more than {MAX_POINTS}")
+    if np.any(np.abs(points - 0.5) > 0.5 + EM_REACH):
+        raise GlyphError("Stroke", f"points: a point lies more than {EM_REACH:g} em outside the em box")
+    length = float(np.sum(np.hypot(*np.diff(points, axis=0).T)))
+    if length > MAX_STROKE_EM:
+        raise GlyphError("Stroke", f"points: the centreline is {length:.3g} em long, more than {MAX_STROKE_EM:g}")
+
+
+def check_number(where: str, name: str, v) -> None:
+    """One coordinate of a file: a finite number within MAX_COORD; GlyphError otherwise."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)):
+        raise GlyphError(where, f"{name}: {v!r:.20} is not a number")
+    if v != v:
+        raise GlyphError(where, f"{name}: NaN")
+    if not -MAX_COORD <= v <= MAX_COORD:
+        raise GlyphError(where, f"{name}: {v:.3g} is beyond the limit of +-{MAX_COORD:g}")
+
+
 def check_points(where: str, name: str, value) -> np.ndarray:
     """A JSON polyline [[x, y], ...] -> (k, 2) float64; GlyphError(where, "name[i]: problem") at the
     first bad point, or when fewer than 2 distinct points remain (an empty stroke)."""
     if not isinstance(value, (list, tuple)):
         raise GlyphError(where, f"{name}: expected a list of [x, y] points, got {type(value).__name__}")
+    if len(value) > MAX_POINTS:
+        raise GlyphError(where, f"{name}: {len(value)} points, more than {MAX_POINTS}")
     for i, pt in enumerate(value):
         if not isinstance(pt, (list, tuple)) or len(pt) != 2:
             raise GlyphError(where, f"{name}[{i}]: expected [x, y], got {pt!r:.40}")
         for v in pt:
-            if isinstance(v, bool) or not isinstance(v, (int, float)):
-                raise GlyphError(where, f"{name}[{i}]: {v!r:.20} is not a number")
-            if v != v:
-                raise GlyphError(where, f"{name}[{i}]: NaN")
-            if v in (float("inf"), float("-inf")):
-                raise GlyphError(where, f"{name}[{i}]: infinite")
+            check_number(where, f"{name}[{i}]", v)
     p = np.array(value, dtype=np.float64).reshape(-1, 2)
     if len(p) < 2 or not np.any(np.diff(p, axis=0) != 0):
         raise GlyphError(where, f"{name}: empty stroke ({len(p)} points, fewer than 2 distinct)")

@@ -6,11 +6,20 @@ import re
 
 import numpy as np
 
-from .model import GlyphError
+from .model import MAX_COORD, GlyphError
 
 _TOKEN = re.compile(r"([MmLlHhVvCcSsQqTtZzAa])|([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|([\s,]+)")
 _ARITY = {"M": 2, "L": 2, "H": 1, "V": 1, "C": 6, "S": 4, "Q": 4, "T": 2, "Z": 0}
 FLATNESS = 1e-3  # largest chord-to-curve distance when flattening, as a fraction of the path's extent
+MAX_CHARS = 200_000       # characters of path data
+MAX_FLAT_POINTS = 100_000  # points of all subpaths after flattening
+
+
+def _number(text: str, pos: int) -> float:
+    v = float(text)
+    if not -MAX_COORD <= v <= MAX_COORD:
+        raise GlyphError("svg path", f"number {text[:20]} at offset {pos}: beyond the limit of +-{MAX_COORD:g}")
+    return v
 
 
 def _tokens(d: str):
@@ -23,18 +32,16 @@ def _tokens(d: str):
         if m.group(1):
             out.append((m.group(1), None))
         elif m.group(2):
-            out.append((None, float(m.group(2))))
+            out.append((None, _number(m.group(2), pos)))
         pos = m.end()
     return out
 
 
-def _segments(d: str):
-    """Subpaths as lists of absolute segments: ("L", p0, p1), ("Q", p0, c, p1), ("C", p0, c1, c2, p1)."""
-    toks = _tokens(d)
+def _commands(toks):
+    """(command letter, [numbers]) per command of the token list; GlyphError for a stray number,
+    an arc or a wrong count of numbers."""
     if toks and toks[0][0] not in ("M", "m"):
         raise GlyphError("svg path", "must start with M or m")
-    subpaths, cur, start = [], np.zeros(2), np.zeros(2)
-    last_ctrl, last_cmd = None, None   # reflected control point for S / T
     i = 0
     while i < len(toks):
         cmd = toks[i][0]
@@ -43,58 +50,86 @@ def _segments(d: str):
         if cmd in "Aa":
             raise GlyphError("svg path", "arc commands (A, a) are not supported")
         i += 1
-        up, rel = cmd.upper(), cmd.islower()
-        n = _ARITY[up]
         args = []
         while i < len(toks) and toks[i][0] is None:
             args.append(toks[i][1])
             i += 1
-        if up == "Z":
-            if args:
-                raise GlyphError("svg path", f"{cmd} takes no numbers, got {len(args)}")
-            if subpaths and subpaths[-1] and np.any(cur != start):
-                subpaths[-1].append(("L", cur.copy(), start.copy()))
-            cur, last_ctrl, last_cmd = start.copy(), None, "Z"
-            subpaths.append(None)  # marks "closed": a following command starts a new subpath at start
-            continue
-        if not args or len(args) % n:
+        n = _ARITY[cmd.upper()]
+        if n == 0 and args:
+            raise GlyphError("svg path", f"{cmd} takes no numbers, got {len(args)}")
+        if n and (not args or len(args) % n):
             raise GlyphError("svg path", f"{cmd} needs a multiple of {n} numbers, got {len(args)}")
+        yield cmd, args
+
+
+class _Pen:
+    """The state of a path being read: current point, subpath start, the last control point and
+    command (for the reflections of S and T), and the subpaths made so far."""
+
+    def __init__(self):
+        self.cur, self.start = np.zeros(2), np.zeros(2)
+        self.last_ctrl, self.last_cmd = None, None
+        self.subpaths: list = []
+
+    def close(self) -> None:
+        if self.subpaths and self.subpaths[-1] and np.any(self.cur != self.start):
+            self.subpaths[-1].append(("L", self.cur.copy(), self.start.copy()))
+        self.cur, self.last_ctrl, self.last_cmd = self.start.copy(), None, "Z"
+        self.subpaths.append(None)  # marks "closed": a following command starts a new subpath at start
+
+    def move(self, a: np.ndarray, rel: bool) -> None:
+        self.cur = self.cur + a if rel else a
+        self.start = self.cur.copy()
+        self.subpaths.append([("M", self.cur.copy())])
+        self.last_ctrl, self.last_cmd = None, "M"
+
+    def _reflected(self, kinds: tuple) -> np.ndarray:
+        return 2 * self.cur - self.last_ctrl if self.last_cmd in kinds else self.cur.copy()
+
+    def segment(self, cmd: str, a: np.ndarray, rel: bool) -> tuple:
+        """The absolute segment of one command's numbers `a`: ("L", p0, p1), ("Q", p0, c, p1)
+        or ("C", p0, c1, c2, p1)."""
+        cur, base = self.cur.copy(), (self.cur if rel else np.zeros(2))
+        if cmd == "H":
+            return "L", cur, np.array([base[0] + a[0], cur[1]])
+        if cmd == "V":
+            return "L", cur, np.array([cur[0], base[1] + a[0]])
+        if cmd == "L":
+            return "L", cur, base + a
+        if cmd == "Q":
+            return "Q", cur, base + a[0:2], base + a[2:4]
+        if cmd == "T":
+            return "Q", cur, self._reflected(("Q", "T")), base + a
+        if cmd == "C":
+            return "C", cur, base + a[0:2], base + a[2:4], base + a[4:6]
+        return "C", cur, self._reflected(("C", "S")), base + a[0:2], base + a[2:4]    # S
+
+    def draw(self, cmd: str, a: np.ndarray, rel: bool) -> None:
+        if self.subpaths and self.subpaths[-1] is None:  # drawing on after Z: a new subpath at the old start
+            self.subpaths.append([("M", self.cur.copy())])
+        seg = self.segment(cmd, a, rel)
+        self.subpaths[-1].append(seg)
+        self.cur = seg[-1].copy()
+        self.last_ctrl = seg[-2] if seg[0] in ("Q", "C") else None
+        self.last_cmd = cmd
+
+
+def _segments(d: str):
+    """Subpaths as lists of absolute segments: ("L", p0, p1), ("Q", p0, c, p1), ("C", p0, c1, c2, p1)."""
+    pen = _Pen()
+    for cmd, args in _commands(_tokens(d)):
+        up, rel = cmd.upper(), cmd.islower()
+        if up == "Z":
+            pen.close()
+            continue
+        n = _ARITY[up]
         for j in range(0, len(args), n):
             a = np.array(args[j:j + n])
             if up == "M" and j == 0:
-                cur = cur + a if rel else a
-                start = cur.copy()
-                subpaths.append([])
-                subpaths[-1].append(("M", cur.copy()))
-                last_ctrl, last_cmd = None, "M"
-                continue
-            if subpaths and subpaths[-1] is None:  # drawing on after Z: a new subpath at the old start
-                subpaths.append([("M", cur.copy())])
-            seg_cmd = "L" if up == "M" else up
-            base = cur if rel else np.zeros(2)
-            if seg_cmd == "H":
-                p1 = np.array([cur[0] + a[0] if rel else a[0], cur[1]])
-                seg = ("L", cur.copy(), p1)
-            elif seg_cmd == "V":
-                p1 = np.array([cur[0], cur[1] + a[0] if rel else a[0]])
-                seg = ("L", cur.copy(), p1)
-            elif seg_cmd == "L":
-                seg = ("L", cur.copy(), base + a)
-            elif seg_cmd == "Q":
-                seg = ("Q", cur.copy(), base + a[0:2], base + a[2:4])
-            elif seg_cmd == "T":
-                c = 2 * cur - last_ctrl if last_cmd in ("Q", "T") else cur.copy()
-                seg = ("Q", cur.copy(), c, base + a)
-            elif seg_cmd == "C":
-                seg = ("C", cur.copy(), base + a[0:2], base + a[2:4], base + a[4:6])
-            else:  # S
-                c1 = 2 * cur - last_ctrl if last_cmd in ("C", "S") else cur.copy()
-                seg = ("C", cur.copy(), c1, base + a[0:2], base + a[2:4])
-            subpaths[-1].append(seg)
-            cur = seg[-1].copy()
-            last_ctrl = seg[-2] if seg[0] in ("Q", "C") else None
-            last_cmd = seg_cmd
-    return [sp for sp in subpaths if sp]
+                pen.move(a, rel)
+            else:       # numbers after an M's first pair are lines
+                pen.draw("L" if up == "M" else up, a, rel)
+    return [sp for sp in pen.subpaths if sp]
 
 
 def _flatten(seg, tol: float) -> np.ndarray:
@@ -122,14 +157,19 @@ def parse_svg_path(d: str) -> list[np.ndarray]:
     """
     if not isinstance(d, str):
         raise GlyphError("svg path", f"expected a string, got {type(d).__name__}")
+    if len(d) > MAX_CHARS:
+        raise GlyphError("svg path", f"{len(d)} characters, more than {MAX_CHARS}")
     subpaths = _segments(d)
     allpts = np.array([p for sp in subpaths for seg in sp for p in seg[1:]]).reshape(-1, 2)
     if not np.all(np.isfinite(allpts)):
         raise GlyphError("svg path", "a coordinate is not finite")
     extent = float(np.ptp(allpts, axis=0).max()) if len(allpts) else 0.0
     tol = max(extent, 1e-12) * FLATNESS
-    out = []
+    out, total = [], 0
     for sp in subpaths:
         pts = [sp[0][1][None, :]] + [_flatten(seg, tol) for seg in sp[1:]]
         out.append(np.concatenate(pts, axis=0))
+        total += len(out[-1])
+        if total > MAX_FLAT_POINTS:
+            raise GlyphError("svg path", f"more than {MAX_FLAT_POINTS} points once its curves are flattened")
     return out

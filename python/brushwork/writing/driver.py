@@ -1,0 +1,289 @@
+"""The calligraphic driver: a glyph's strokes become brush motions on the paper (DESIGN writing/driver.py).
+
+A glyph is laid out in a physical em box (`Style.em_mm`, 100 mm for the medium brush) and written
+stroke by stroke, frame by frame. Like a calligrapher watching the tip, the driver closes two
+loops on what the brush actually does:
+
+- position: the root is placed so that the footprint's centre (area centroid of the core's
+  footprint polygons) follows the centreline; the root-to-footprint offset is learned frame by
+  frame and carried, in the stroke's own frame (along, across), into the next stroke;
+- width: the press depth is adjusted so that the footprint's width across the travel follows
+  the stroke type's width profile (entry press 顿, travel, pressed corners 折, the thinning exit
+  of a left-falling stroke 撇, the flared exit of a right-falling stroke 捺, the dot 点, the
+  rising stroke 提, the hook's flick 钩).
+
+Between strokes the brush lifts, travels in the air and comes down again; ink and wetness carry
+through the character. Styles are data (`styles/*.json`); variation is seeded.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..brush import Brush, Pose
+from ..paper import Paper
+from ..scene import Scene
+from .style import Style, family
+from .targets import _centroid_and_width, stroke_targets
+
+# the driver's constants (L: the tuft length)
+PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
+PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
+HOLD_FRAMES = 3           # frames a pose is held at most while the solver leaves a pressed brush floating
+TRAVEL_STEP = 4.0         # step_mm: the brush moves this many frame steps per frame in the air
+TRAVEL_FRAMES = (2, 10)   # frames of one travel between strokes, fewest and most
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    """np.clip for one number (lo <= hi), without numpy's per-call cost: the driver clips a few
+    numbers every frame (~7 ms of a 1024 px character through np.clip)."""
+    return lo if x < lo else hi if x > hi else x
+
+
+class Writer:
+    """Writes glyphs with one brush on one paper; `write(glyph, origin_mm)` draws a character
+    whose em box's bottom-left corner sits at `origin_mm` on the paper."""
+
+    def __init__(self, paper: Paper, style: Style, seed: int = 0):
+        self.paper, self.style = paper, style
+        self.brush = Brush(style.preset)
+        self.rng = np.random.default_rng(seed)
+        self.L = self.brush.model.tuft_length
+        self.press = style.press_start
+        self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
+        self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
+        self.frames = 0
+        self.touching = False             # the last deposit touched the paper
+        self.touched_in_stroke = False    # a deposit of this stroke touched it
+        self.breaks = 0                   # strokes broken: down again after a lift within one stroke
+        self.holds = 0                    # frames a pose was held because the solver left the brush floating
+        self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
+        self.density = 1.0                # width factor of the character being written (density_gain)
+
+    def _z(self, press: float, tilt: float) -> float:
+        return self.L * math.cos(math.radians(tilt)) - press * self.L
+
+    def _step(self, target: np.ndarray, heading: float, press: float, tilt: float) -> None:
+        c, s = math.cos(heading), math.sin(heading)
+        off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
+                        s * self.offset_local[0] + c * self.offset_local[1]])
+        root = target + off
+        pose = Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading))
+        stats = self.brush.step(pose)
+        self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
+        # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
+        # When the solver stopped at q_max on an iterate that does (a bent tuft held up on its
+        # way to the new pose), hold the pose for up to three more frames rather than lay a gap in
+        # the stroke (one more frame left 46 broken strokes in the 301 dev characters, three 29)
+        for _ in range(HOLD_FRAMES):
+            if not (self.touching and press > 0.0 and not stats.converged and stats.status == "iteration cap"
+                    and not self.contact):
+                break
+            stats = self.brush.step(pose)
+            self.contact = self.brush.footprint()
+            self.frames += 1
+            self.holds += 1
+        dep = self.paper.deposit(self.brush)
+        # a break: the brush came down again after leaving the paper within one stroke
+        self.breaks += int(dep.new_stroke and self.touched_in_stroke)
+        self.touched_in_stroke = self.touched_in_stroke or dep.contact
+        self.touching = dep.contact
+        self.frames += 1
+
+    def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
+        seen = _centroid_and_width(self.contact, heading)
+        st = self.style
+        if seen is None:
+            if width_target is not None:
+                self.press = min(self.press + PRESS_ON, PRESS_MAX)   # not touching yet: press on
+            return
+        centre, width, self.behind, self.ahead = seen
+        c, s = math.cos(heading), math.sin(heading)
+        err = target - centre                               # mm, on the paper
+        # along the stroke the offset follows quickly; across it, gently (the footprint's centre
+        # wanders a little from frame to frame, and chasing it widens the stroke)
+        self.offset_local += np.array([st.position_gain * (c * err[0] + s * err[1]),
+                                       st.across_gain * (-s * err[0] + c * err[1])])
+        # the root is never farther than a tuft length from where the tuft touches
+        reach = float(np.linalg.norm(self.offset_local))
+        if reach > self.L:
+            self.offset_local *= self.L / reach
+        if width_target is not None:
+            rel = (width_target - width) / max(width_target, 1e-3)
+            self.press = float(_clip(self.press + st.width_gain * rel, 0.0, PRESS_MAX))
+
+    def write_stroke(self, points_mm: np.ndarray, kind: str) -> None:
+        st = self.style
+        # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
+        self.touched_in_stroke = self.touching = False
+        w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
+        path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
+        aim = _Aim(st, path, s, width)
+        self._come_down(aim, heading[0])
+        # 出锋: near the end of a tapering stroke the press only eases. The footprint does not
+        # thin with the press: the spread belly keeps its width, then leaves the paper within a
+        # frame or two and only the tip touches. A loop free to press again brought the belly
+        # down on a folded tip, a bead at the end of a left-falling stroke 撇; eased only, the tip
+        # alone drew a hairline past the end. So the travel ends where the belly has left, and
+        # the brush lifts there
+        tapering = st.taper_from is not None and family(kind) in ("tapered", "rising")
+        j = self._along(aim, heading, w_nom, tapering)
+        self._lift(aim.target(self, j), heading[j], tapering)
+        self.paper.end_stroke()
+
+    def _come_down(self, aim: "_Aim", h0: float) -> None:
+        """Come down at the start: while in the air the tip is aimed at the stroke's start (the
+        tuft lies down from its tip, so the tip marks the stroke's rear end), then pressed."""
+        st = self.style
+        self.behind = self.ahead = 0.5 * aim.width[0]
+        c, sn = math.cos(h0), math.sin(h0)
+        for j in range(-st.air_frames, st.entry_frames):
+            # first `air_frames` frames hovering, the tip swung over the start before it touches
+            # (a descent still being aimed lays ink on its way in), then pressing down
+            t = max(0, j + 1) / st.entry_frames
+            p0 = aim.target(self, 0)
+            self._step(p0, h0, -st.hover + (self.press + st.hover) * t, st.tilt_deg)
+            if not self.contact:
+                tip = np.asarray(self.brush.skeleton()[-1][:2])
+                err = aim.path[0] - tip
+                self.offset_local += np.array([c * err[0] + sn * err[1], -sn * err[0] + c * err[1]])
+            else:
+                self._observe(p0, h0, aim.width[0] if t >= 1.0 else None)
+
+    def _along(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool) -> int:
+        """The travel along the centreline; returns the index of its last frame."""
+        st, width = self.style, aim.width
+        for j in range(len(aim.path)):
+            if j > 0:
+                # feedforward: the press follows the profile's own change at once (L per unit of
+                # relative width change); the footprint loop only trims. A spread tuft keeps its
+                # width while the press eases (the hairs stick splayed), so a tapering exit 出锋
+                # must lift ahead of what the footprint shows
+                self.press = float(_clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom,
+                                         0.0, PRESS_MAX))
+            pj = aim.target(self, j)
+            self._step(pj, heading[j], self.press, st.tilt_deg)
+            eased = self.press
+            self._observe(pj, heading[j], width[j])
+            if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
+                break
+        return j
+
+    def _taper_ends(self, eased: float, heading: float, width: float) -> bool:
+        """On a tapering exit the press only eases; True once the belly has left the paper."""
+        self.press = min(self.press, eased)
+        seen = _centroid_and_width(self.contact, heading)
+        return seen is None or seen[1] < self.style.taper_collapse * width
+
+    def _lift(self, end: np.ndarray, h: float, tapering: bool) -> None:
+        """Lift while drawing the root back over the footprint (回锋, returning the tip), so the
+        unbending tuft does not sweep ink past the stroke's end; a tapered exit has no tip to
+        return (only the tip touches as the travel ends): it lifts where it stands."""
+        st = self.style
+        back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering else self.offset_local[0])
+        # Once a deposit leaves no ink (the belly may already have left on the travel's last
+        # frame) the rest of the lift is one frame: eased out over the remaining frames, the tuft
+        # springing back as the root rose slowly swung its tip down onto the paper again, a dot
+        # past the stroke's end
+        for j in range(st.exit_frames):
+            if not self.touching:
+                self._step(end - back, h, -st.hover, st.tilt_deg)
+                break
+            t = (j + 1) / st.exit_frames
+            self._step(end - back * t, h, self.press * (1 - t) - st.hover * t, st.tilt_deg)
+
+    def travel(self, to_mm: np.ndarray, heading: float) -> None:
+        """Lift and carry the brush in the air to above `to_mm`, turning toward `heading`."""
+        st = self.style
+        root = np.asarray(self.brush.skeleton()[0][:2])
+        dist = float(np.linalg.norm(to_mm - root))
+        n = int(np.clip(math.ceil(dist / (TRAVEL_STEP * st.step_mm)), *TRAVEL_FRAMES))
+        for j in range(n):
+            t = (j + 1) / n
+            self.brush.step(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
+                                  self._z(-st.hover, st.tilt_deg)), st.tilt_deg, math.degrees(heading)))
+            self.paper.deposit(self.brush)
+            self.frames += 1
+
+    def write(self, glyph, origin_mm=(0.0, 0.0)) -> None:
+        st = self.style
+        self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
+        o = np.asarray(origin_mm, dtype=float)
+        self.density = st.density(len(glyph.strokes))
+        for stroke in glyph.strokes:
+            pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
+            d0 = pts[min(1, len(pts) - 1)] - pts[0]
+            h0 = math.atan2(d0[1], d0[0])
+            self.travel(pts[0], h0)
+            self.write_stroke(pts, stroke.kind)
+
+
+class _Aim:
+    """One stroke's aim points: path (n, 2) mm at arc lengths s (n,) mm, target widths (n,) mm.
+    The footprint must not reach past the stroke's ends by more than the style's reach (mm; half
+    a width unless the style says): its centre's arc length is held within
+    [behind - reach, length + reach - ahead]."""
+
+    def __init__(self, st: Style, path: np.ndarray, s: np.ndarray, width: np.ndarray):
+        self.st, self.path, self.s, self.width = st, path, s, width
+        self.length = max(s[-1], 1e-6)
+        self.start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
+
+    def _reach(self, r_em: float | None, j: int) -> float:
+        return 0.5 * self.width[j] if r_em is None else r_em * self.st.em_mm
+
+    def target(self, writer: "Writer", j: int) -> np.ndarray:
+        """The point (2,) mm the footprint's centre aims at on frame j, given how far the
+        writer's footprint reaches behind and ahead of its centre."""
+        lo = writer.behind - self._reach(self.start_reach, j)
+        hi = self.length + self._reach(self.st.end_reach_em, j) - writer.ahead
+        sj = 0.5 * (lo + hi) if lo > hi else float(_clip(self.s[j], lo, hi))
+        sj = float(_clip(sj, 0.0, self.length))
+        return np.array([np.interp(sj, self.s, self.path[:, 0]), np.interp(sj, self.s, self.path[:, 1])])
+
+    def tapers_at(self, j: int) -> bool:
+        """Past taper_from along the median, where the profile thins toward the next point."""
+        w = self.width
+        return self.s[j] > self.st.taper_from * self.length and j + 1 < len(self.path) and w[j + 1] < w[j]
+
+
+MAX_SIDE = 32768     # px: the paper's largest side
+
+
+def check_size(size: int) -> int:
+    """px per character: 16..8192."""
+    size = int(size)
+    if not 16 <= size <= 8192:
+        raise ValueError(f"size {size} px: expected 16..8192 px")
+    return size
+
+
+def check_samples(samples: int | None) -> int | None:
+    """Multisampling of the stroke layer: None (the style's) or 1, 2, 4, 8."""
+    if samples is not None and samples not in (1, 2, 4, 8):
+        raise ValueError(f"samples {samples}: expected 1, 2, 4 or 8")
+    return samples
+
+
+def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None) -> Paper:
+    """A paper for `chars` characters in a row, each em box a size x size px square, with the
+    style's scene; `samples` overrides its multisampling (1 is ~2.5x faster on a software
+    renderer, its edges stepped at the pixel)."""
+    size, samples = check_size(size), check_samples(samples)
+    if chars < 1:
+        raise ValueError("no characters to render")
+    if chars * size > MAX_SIDE:
+        raise ValueError(f"{chars} characters x {size} px = {chars * size} px wide: more than {MAX_SIDE}; "
+                         "use a smaller size or `brushwork batch`")
+    scene = dict(style.scene, **({"samples": samples} if samples else {}))
+    return Paper(chars * style.em_mm, style.em_mm, size / style.em_mm, scene=Scene(**scene))
+
+
+def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
+    """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
+    lands where its SVG recipe draws the outlines), with the glyph written on it."""
+    st = style if isinstance(style, Style) else Style.load(style)
+    paper = writing_paper(st, size)
+    Writer(paper, st, seed).write(glyph)
+    return paper

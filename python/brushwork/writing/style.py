@@ -1,0 +1,269 @@
+"""How a hand writes: the style's fields, ONE table of them (type, unit, range, default, meaning)
+that both checks a style file and prints its documentation (`brushwork params --style`).
+
+A style is data (`styles/<name>.json`): the brush preset, the em size, the nominal stroke width,
+the tilt, the speed, the width profile of each stroke family and the ink.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field, make_dataclass
+from pathlib import Path
+
+import numpy as np
+
+STYLE_DIR = Path(__file__).resolve().parent.parent / "styles"
+
+# stroke type -> width-profile family (the kinds are CJK Strokes characters, glyphs.STROKE_TYPES)
+FAMILIES = {
+    "tapered": "㇒㇓㇢㇛㇜㇇㇋",        # left-falling: thin out and lift
+    "flared": "㇏㇝",                  # right-falling: press, flare, lift
+    "rising": "㇀㇙㇊",                # rising: start pressed, flick up thin
+    "dot": "㇔",
+    "hook": "㇚㇁㇂㇃㇆㇈㇉㇌㇖㇟㇠㇡",   # a hook's flick at the end
+}
+PROFILE_FAMILIES = ("plain",) + tuple(FAMILIES)
+PROFILE_POINTS = 256      # most [s, factor] points in one family's width profile
+
+
+def family(kind: str) -> str:
+    """The width-profile family of a stroke type ("plain" for the rest: ㇐ ㇑ ㇕ ㇗ ...)."""
+    for name, kinds in FAMILIES.items():
+        if kind in kinds:
+            return name
+    return "plain"
+
+
+@dataclass(frozen=True)
+class StyleField:
+    """One field of a style file. kind: str, float, int, float? (a number or null), pair (two
+    floats), scene (a Scene's settings) or profiles; lo..hi bound a number (lo excluded when
+    lo_open); default None with required: the file must give it."""
+    name: str
+    kind: str
+    unit: str
+    lo: float | None
+    hi: float | None
+    default: object
+    doc: str
+    lo_open: bool = False
+    required: bool = False
+
+    def range_text(self) -> str:
+        if self.lo is None:
+            return {"scene": "Scene settings", "profiles": "s 0..1, factor 0..5"}.get(self.kind, "-")
+        lo = f"> {self.lo:g}" if self.lo_open else f"{self.lo:g}"
+        return f"{lo} .. {self.hi:g}" if self.lo_open else f"{lo}..{self.hi:g}"
+
+
+_F = StyleField
+FIELDS: tuple[StyleField, ...] = (
+    _F("name", "str", "-", None, None, None, "the style's name", required=True),
+    _F("description", "str", "-", None, None, "", "what the hand looks like"),
+    _F("preset", "str", "-", None, None, "medium", "the brush: a BrushModel preset (`brushwork params`)"),
+    _F("em_mm", "float", "mm", 1.0, 1000.0, 100.0, "physical size of the em box on the paper"),
+    _F("width_em", "float", "em", 0.0, 0.5, 0.06, "nominal stroke width", lo_open=True),
+    _F("tilt_deg", "float", "deg", 0.0, 60.0, 15.0, "handle against the paper's normal, leaning along the travel"),
+    _F("step_mm", "float", "mm", 0.1, 20.0, 1.0, "travel per frame"),
+    _F("press_start", "float", "L", 0.0, 0.45, 0.2, "first guess of the press depth, fraction of the tuft length"),
+    _F("position_gain", "float", "-", 0.0, 2.0, 0.8, "fraction of the footprint's position error corrected per frame"),
+    _F("across_gain", "float", "-", 0.0, 2.0, 0.8, "the same, across the stroke"),
+    _F("width_gain", "float", "L", 0.0, 1.0, 0.06, "press change per unit of relative width error"),
+    _F("press_feedforward", "float", "L", 0.0, 2.0, 0.0,
+       "press change per unit change of the profile's width / nominal"),
+    _F("entry_frames", "int", "frames", 1, 100, 5, "frames pressing down at a stroke's start"),
+    _F("exit_frames", "int", "frames", 0, 100, 4, "frames lifting at its end"),
+    _F("air_frames", "int", "frames", 0, 100, 0, "frames hovering over a stroke's start, aiming the tip"),
+    _F("hover", "float", "L", 0.0, 1.0, 0.12, "height above first contact between strokes"),
+    _F("ink_mm2", "float", "mm^2", 0.0, 1e6, 6000.0, "ink the brush is dipped with, paper at full density"),
+    _F("scene", "scene", "-", None, None, {"depletion": True}, "rendering features (Scene settings)"),
+    _F("jitter", "float", "-", 0.0, 0.5, 0.03, "seeded relative variation of stroke width and pressure"),
+    _F("corner_press", "float", "-", 0.5, 3.0, 1.2, "width factor at a corner of the centreline (折)"),
+    _F("density_gain", "float", "1/stroke", 0.0, 1.0, 0.0,
+       "width factor 1 - g (n - density_strokes) for a character of n strokes"),
+    _F("density_strokes", "float", "strokes", 0.0, 100.0, 9.3, "stroke count whose width factor is 1"),
+    _F("direction_gain", "float", "-", -0.9, 0.9, 0.0,
+       "plain strokes and hooks: width factor 1 + g (2 |sin heading| - 1), verticals broader"),
+    _F("end_reach_em", "float?", "em", -0.5, 0.5, None,
+       "how far the footprint may reach past a median's end (null: half the stroke's width)"),
+    _F("start_reach_em", "float?", "em", -0.5, 0.5, None, "the same before its start (null: as end_reach_em)"),
+    _F("taper_from", "float?", "median", 0.0, 1.0, None,
+       "出锋 exits: from this fraction of the median on the press only eases (null: off)"),
+    _F("taper_collapse", "float", "width", 0.0, 1.0, 0.5,
+       "... and the travel ends once the footprint is narrower than this fraction of the width"),
+    _F("offset_em", "pair", "em", -0.5, 0.5, (0.0, 0.0), "(x, y) added to every centreline point"),
+    _F("profiles", "profiles", "-", None, None, None,
+       "family (plain tapered flared rising dot hook) -> [[s 0..1, width factor], ...]", required=True),
+)
+FIELD_BY_NAME = {f.name: f for f in FIELDS}
+
+
+class StyleError(ValueError):
+    """A bad style file: "FILE: field = value: expected ..."."""
+
+
+def _is_number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _check_number(f: StyleField, v, name: str = "") -> str | None:
+    """Why the number `v` does not fit field f, or None."""
+    if not _is_number(v) or (f.kind == "int" and not isinstance(v, int)):
+        return "an integer" if f.kind == "int" else "a number"
+    if not math.isfinite(v) or v < f.lo or v > f.hi or (f.lo_open and v <= f.lo):
+        return f"{f.range_text()} {f.unit}".rstrip(" -")
+    return None
+
+
+def _check_profiles(value) -> str | None:
+    if not isinstance(value, dict):
+        return "an object: family -> [[s, factor], ...]"
+    missing = [n for n in PROFILE_FAMILIES if n not in value]
+    extra = sorted(set(value) - set(PROFILE_FAMILIES))
+    if missing or extra:
+        return f"the families {', '.join(PROFILE_FAMILIES)}" + (f" (unknown: {', '.join(extra)})" if extra else "")
+    for name in PROFILE_FAMILIES:
+        why = _check_profile(value[name])
+        if why:
+            return f"{name}: {why}"
+    return None
+
+
+def _check_profile(rows) -> str | None:
+    ok = (isinstance(rows, list) and 2 <= len(rows) <= PROFILE_POINTS
+          and all(isinstance(r, list) and len(r) == 2 and all(map(_is_number, r)) for r in rows))
+    if not ok:
+        return f"expected 2..{PROFILE_POINTS} [s, factor] pairs of numbers"
+    a = np.array(rows, dtype=float)
+    if not (np.all(np.isfinite(a)) and np.all(np.diff(a[:, 0]) >= 0) and a[0, 0] >= 0 and a[-1, 0] <= 1):
+        return "s must rise from 0..1"
+    if a[:, 1].min() < 0 or a[:, 1].max() > 5:
+        return "factors must lie in 0..5"
+    return None
+
+
+def _check_scene(value) -> str | None:
+    from ..scene import Scene
+
+    if not isinstance(value, dict):
+        return "an object of Scene settings"
+    try:
+        Scene(**value)
+    except (TypeError, ValueError) as err:
+        return f"Scene settings ({str(err).splitlines()[0]})"
+    return None
+
+
+def _check_str(f: StyleField, value) -> str | None:
+    if not isinstance(value, str):
+        return "a string"
+    if f.name == "preset":
+        from .._core import BrushModel
+
+        if value not in BrushModel.presets():
+            return f"one of {', '.join(BrushModel.presets())}"
+    return None
+
+
+def _why(f: StyleField, value) -> str | None:
+    """Why `value` does not fit field f (what is expected), or None when it does."""
+    if f.kind == "str":
+        return _check_str(f, value)
+    if f.kind == "float?" and value is None:
+        return None
+    if f.kind == "pair":
+        if not isinstance(value, list) or len(value) != 2:
+            return "[x, y]"
+        return next((w for w in (_check_number(f, v) for v in value) if w), None)
+    if f.kind == "scene":
+        return _check_scene(value)
+    if f.kind == "profiles":
+        return _check_profiles(value)
+    return _check_number(f, value)
+
+
+def check_style(doc, where: str) -> dict:
+    """A parsed style file -> the dataclass's keyword arguments; StyleError naming the file,
+    the field and the value at the first problem."""
+    if not isinstance(doc, dict):
+        raise StyleError(f"{where}: expected a JSON object of style fields")
+    unknown = sorted(set(doc) - set(FIELD_BY_NAME))
+    if unknown:
+        raise StyleError(f"{where}: unknown field(s) {', '.join(unknown)} (`brushwork params --style` lists them)")
+    for f in FIELDS:
+        if f.name not in doc:
+            if f.required:
+                raise StyleError(f"{where}: missing field {f.name}")
+            continue
+        why = _why(f, doc[f.name])
+        if why:
+            raise StyleError(f"{where}: {f.name} = {json.dumps(doc[f.name])[:40]}: expected {why}")
+    return {k: tuple(v) if FIELD_BY_NAME[k].kind == "pair" else v for k, v in doc.items()}
+
+
+def style_table() -> str:
+    """The style fields as a Markdown table: field, unit, range, default, meaning."""
+    rows = ["| field | unit | range | default | meaning |", "|---|---|---|---|---|"]
+    for f in FIELDS:
+        default = "required" if f.required else json.dumps(list(f.default) if f.kind == "pair" else f.default,
+                                                            ensure_ascii=False)
+        rows.append(f"| {f.name} | {f.unit} | {f.range_text()} | {default} | {f.doc} |")
+    return "\n".join(rows)
+
+
+class _StyleMethods:
+    @classmethod
+    def load(cls, name_or_path: str) -> "Style":
+        """A style by name (kai, xing) or from a JSON file; StyleError for a bad one."""
+        path = Path(name_or_path)
+        if not path.suffix:
+            path = STYLE_DIR / f"{name_or_path}.json"
+            if not path.is_file():
+                raise StyleError(f"unknown style {name_or_path!r} (known: {', '.join(cls.names())})")
+        return cls(**check_style(_read_json(path), str(path)))
+
+    def density(self, strokes: int) -> float:
+        """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
+        return float(np.clip(1.0 - self.density_gain * (strokes - self.density_strokes), 0.7, 1.3))
+
+    @staticmethod
+    def names() -> list[str]:
+        return sorted(p.stem for p in STYLE_DIR.glob("*.json"))
+
+
+MAX_STYLE_BYTES = 1 << 20      # a style file is a few kB; more is not one
+
+
+def _read_json(path: Path):
+    """The parsed JSON of a style file; StyleError with a plain sentence when it cannot be read."""
+    if not path.is_file():
+        raise StyleError(f"style file not found: {path}" if not path.exists() else f"{path}: not a file")
+    try:
+        if path.stat().st_size > MAX_STYLE_BYTES:
+            raise StyleError(f"{path}: larger than {MAX_STYLE_BYTES} bytes: not a style file")
+        return json.loads(path.read_text(encoding="utf-8"))
+    except PermissionError:
+        raise StyleError(f"cannot read the style file {path}: permission denied") from None
+    except UnicodeDecodeError:
+        raise StyleError(f"{path}: not UTF-8 text") from None
+    except (json.JSONDecodeError, RecursionError) as err:
+        raise StyleError(f"{path}: not a style file (malformed JSON: {getattr(err, 'msg', err)})") from None
+
+
+def _dataclass_field(f: StyleField):
+    if isinstance(f.default, (dict, list)):
+        return field(default_factory=lambda d=f.default: json.loads(json.dumps(d)))
+    return field(default=f.default)
+
+
+_TYPES = {"str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "scene": dict,
+          "profiles": dict}
+# the dataclass of a style, its fields in the table's order (required ones first, as a dataclass needs)
+Style = make_dataclass(
+    "Style",
+    [(f.name, _TYPES[f.kind]) for f in FIELDS if f.required]
+    + [(f.name, _TYPES[f.kind], _dataclass_field(f)) for f in FIELDS if not f.required],
+    bases=(_StyleMethods,))
+Style.__module__ = __name__
+Style.__doc__ = "How a hand writes: the fields of FIELDS (`brushwork params --style`). Loaded by Style.load."
