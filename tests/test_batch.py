@@ -13,7 +13,7 @@ import pytest
 
 from brushwork import batch, cli
 from brushwork.bench import glyphs as bench_glyphs
-from brushwork.glyphs import GlyphError, load_source
+from brushwork.glyphs import load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
 from brushwork.writing import Style, Writer, render_glyph
@@ -403,21 +403,6 @@ def test_contact_sheet_with_and_without_a_reference_font(tmp_path):
     assert paired.shape[1] > plain.shape[1]          # the reference column beside each
     ref = FontDrawer(font).draw("十", 64)
     assert ref.shape == (64, 64) and ref.max() > 200 and (ref > 128).mean() > 0.02
-
-
-def test_default_source_bundled_then_kanjivg(monkeypatch):
-    g = load_source("default", "永")["永"]
-    assert g.source.startswith("glyphs:")
-    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
-    with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
-        load_source("default", "鬱")
-    # with KanjiVG there (a stand-in folder), a character in neither place is one error of the
-    # default source that says where it looked
-    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: True)
-    monkeypatch.setattr(glyph_sources.kanjivg, "package_dir", lambda: DATA / "kanjivg")
-    errors: list = []
-    assert set(load_source("default", "永鬱", errors=errors)) == {"永"}
-    assert [str(e) for e in errors] == ["default: no glyph for '鬱' (U+9B31) among the bundled glyphs or in KanjiVG"]
 
 
 def test_batch_stopped_by_sigterm_keeps_whole_files_and_resumes(tmp_path):
