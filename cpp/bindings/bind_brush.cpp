@@ -126,16 +126,16 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
       .def("full_state", &Brush::full_state)
       .def("multipliers", &Brush::multipliers)
       .def_property(
-          "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness); },
+          "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness()); },
           [](Brush& b, const Eigen::VectorXd& w) {
-            if (w.size() != b.wetness.size())
-              throw std::invalid_argument("wetness: expected " + std::to_string(b.wetness.size()) +
+            if (w.size() != b.wetness().size())
+              throw std::invalid_argument("wetness: expected " + std::to_string(b.wetness().size()) +
                                           " values (one per spine node), got " +
                                           std::to_string(w.size()));
             for (int i = 0; i < w.size(); ++i)
               if (!std::isfinite(w[i]) || w[i] < 0.0 || w[i] > 1.0)
                 throw std::invalid_argument("wetness[" + std::to_string(i) + "] = " +
                                             std::to_string(w[i]) + " is outside [0, 1]");
-            b.wetness = w;
+            b.wetness() = w;
           });
 }
