@@ -264,19 +264,35 @@ void reset_state(const Tuft& t, BrushState& s, Workspace& w) {
   s.stats.kkt_trace.reserve(cap);
 }
 
+namespace {
+
+// every per-node and per-variable array of s has the sizes t gives it
+bool arrays_fit(const Tuft& t, const BrushState& s) {
+  const int n = t.n;
+  const auto size = [](const auto& v) { return static_cast<int>(v.size()); };
+  const int node_arrays[] = {size(s.p), size(s.c_prev), size(s.wetness), size(s.txy)};
+  for (int k : node_arrays)
+    if (k != n + 1) return false;
+  return s.x.size() == t.nx && s.x_prev.size() == t.nx && s.rest.size() == t.nx &&
+         s.lambda.size() == t.mmax && s.R_relaxed.size() == n && size(s.prev_pts) == 3 * (n + 1) &&
+         size(s.R) == 3 * (n + 1);
+}
+
+// the carried matrices are na x na (H_touching may not have been made yet)
+bool matrices_fit(const Tuft& t, const BrushState& s) {
+  const int na = t.na();
+  const bool h = s.H.rows() == na && s.H.cols() == na;
+  return h && (s.H_touching.size() == 0 || (s.H_touching.rows() == na && s.H_touching.cols() == na));
+}
+
+}  // namespace
+
 void check_state_shape(const Tuft& t, const BrushState& s) {
-  const int n = t.n, na = t.na();
-  const bool ok = s.x.size() == t.nx && s.x_prev.size() == t.nx && s.rest.size() == t.nx &&
-                  s.H.rows() == na && s.H.cols() == na && s.lambda.size() == t.mmax &&
-                  s.R_relaxed.size() == n && s.p.size() == n + 1 && s.c_prev.size() == n + 1 &&
-                  s.wetness.size() == n + 1 && static_cast<int>(s.prev_pts.size()) == 3 * (n + 1) &&
-                  static_cast<int>(s.R.size()) == 3 * (n + 1) && static_cast<int>(s.txy.size()) == n + 1 &&
-                  (s.H_touching.size() == 0 || (s.H_touching.rows() == na && s.H_touching.cols() == na));
-  if (ok) return;
+  if (arrays_fit(t, s) && matrices_fit(t, s)) return;
   throw std::invalid_argument(
       "set_state: the state belongs to a brush of " + std::to_string(s.x.size() / 5) + " segments and " +
-      std::to_string(s.H.rows()) + " active variables; this brush has " + std::to_string(n) +
-      " segments and " + std::to_string(na) + " active variables");
+      std::to_string(s.H.rows()) + " active variables; this brush has " + std::to_string(t.n) +
+      " segments and " + std::to_string(t.na()) + " active variables");
 }
 
 }  // namespace brushwork
