@@ -30,6 +30,8 @@ constexpr double kSleepResidual = 10.0;   // -, residual (x tolerance) within wh
 constexpr double kMaxStep = 0.5;          // rad (sqrt(mm) for stretches): largest move of a variable
 constexpr double kArmijo = 1e-4;          // -, sufficient-decrease fraction of the merit's slope
 constexpr int kBacktracks = 40;           // halvings of alpha before the line search gives up
+constexpr double kBacktrack = 0.5;        // -, alpha shrinks by this factor per rejected trial
+constexpr double kPenaltyMargin = 2.0;    // -, nu starts at least this multiple of the largest multiplier
 constexpr double kNegligibleStep = 1e-14; // rad: a step this small leaves nothing to do
 
 inline double neg_sum(const VecX& g, int m) {
@@ -80,7 +82,7 @@ Loop start_loop(const Tuft& t, BrushState& s, Workspace& w) {
   gather(t, s.x, w.za);
   // the penalty nu must exceed the contact forces; its floor is the brush's force scale
   const double nu0 = kPenaltyScale * t.model.bend_stiffness / t.model.tuft_length;
-  s.nu = std::max(nu0, 2.0 * (L.m > 0 ? w.lam.head(L.m).maxCoeff() : 0.0));
+  s.nu = std::max(nu0, kPenaltyMargin * (L.m > 0 ? w.lam.head(L.m).maxCoeff() : 0.0));
   L.nu_max = kPenaltyCeiling * nu0;
   const double tol = t.model.tolerance;
   L.res = kkt(t, w.gact, w.g, w.Jact, w.lam, L.m);
@@ -178,12 +180,12 @@ bool line_search(const Tuft& t, const BrushState& s, Workspace& w, int m, double
   f_new = merit_new = 0.0;
   if (alpha == 1.0 && m > 0) {
     accepted = full_step(t, s, w, m, merit0, D, f_new, merit_new);
-    if (!accepted) alpha = 0.5;
+    if (!accepted) alpha = kBacktrack;
   }
   for (int ls = 0; ls < kBacktracks && !accepted; ++ls) {
     w.zt = w.za + alpha * w.step;
     accepted = trial(t, s, w, m, alpha, merit0, D, f_new, merit_new);
-    if (!accepted) alpha *= 0.5;
+    if (!accepted) alpha *= kBacktrack;
   }
   return accepted;
 }
