@@ -48,7 +48,8 @@ Pose substep_pose(const Pose& from, const Pose& to, int k, int substeps) {
   return p;
 }
 
-// the state as it was before a discarded frame set-up
+// the state as it was before a discarded frame set-up, except the relaxed normal reactions R
+// and proportions p, which keep that set-up's relaxation (the first sub-step relaxes them again)
 void restore(BrushState& s, const BrushState& saved) {
   const VecX R_relaxed = s.R_relaxed, p = s.p;
   s = saved;
