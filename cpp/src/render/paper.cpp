@@ -754,7 +754,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
     float wet[kMaxNodes] = {0}, press[kMaxNodes] = {0};
     const std::vector<float> pr = node_pressure(brush);
     for (int i = 0; i < nodes; ++i) {
-      wet[i] = static_cast<float>(std::clamp(brush.wetness[i], 0.0, 1.0));
+      wet[i] = static_cast<float>(std::clamp(brush.wetness()[i], 0.0, 1.0));
       press[i] = pr[i];
     }
     gl::Uniform1i(fp.u_nodes, nodes);
@@ -880,7 +880,7 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
       // load_i) sums to zero), so conservation holds
       const double w_mean = ink->load.sum() / ink->capacity.sum();
       ink->load += scene_.capillary * (w_mean * ink->capacity - ink->load);
-      for (int i = 0; i < nodes; ++i) brush.wetness[i] = std::clamp(ink->load[i] / ink->capacity[i], 0.0, 1.0);
+      for (int i = 0; i < nodes; ++i) brush.wetness()[i] = std::clamp(ink->load[i] / ink->capacity[i], 0.0, 1.0);
     }
     stroke_rect_ = unite(stroke_rect_, rect);
     stroke_pending_ = true;
