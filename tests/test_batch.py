@@ -106,7 +106,7 @@ def test_the_style_table_documents_and_validates_the_same_fields(capsys):
 
     table = style_table().splitlines()
     assert table[0] == "| field | unit | range | default | meaning |"
-    assert [row.split("|")[1].strip() for row in table[2:]] == [f.name for f in FIELDS]
+    assert [row.split("|")[1].strip() for row in table[2:]] == [f"`{f.name}`" for f in FIELDS]
     assert {f.name for f in FIELDS} == set(Style.__dataclass_fields__)
     for name in Style.names():              # the shipped styles pass their own table
         Style.load(name)
