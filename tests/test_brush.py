@@ -159,14 +159,14 @@ def test_deterministic_bit_for_bit():
 def test_bad_pose_in_step_keeps_the_previous_state():
     b = bw.Brush("medium")
     replay(b, pressed_drag(b.model, frames=30))
-    before = b.full_state().copy()
+    kept = b.full_state().copy()
     with pytest.raises(ValueError, match="tilt_deg"):
         bw.Pose((0, 0, 10), tilt_deg=float("nan"))
     with pytest.raises(ValueError, match="wetness"):
         b.wetness = np.full(b.model.n_segments + 1, 2.0)
     with pytest.raises(ValueError, match="expected"):
         b.set_variables(np.zeros(3))
-    assert np.array_equal(before, b.full_state())
+    assert np.array_equal(kept, b.full_state())
 
 
 def test_surface_mesh_and_footprint_shapes():
