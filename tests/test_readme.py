@@ -87,6 +87,9 @@ def _close(made: Path, kept: Path) -> None:
     (["render", "永和九年", "-o", "{tmp}/yonghe.png"], "yonghe.png", "docs/yonghe.png"),
     (["gallery", "-o", "{tmp}/gallery.png", "--views", "{tmp}/brush_view.png"], "gallery.png",
      "docs/gallery.png"),
+    (["batch", "--chars", (ROOT / "docs" / "sheet_chars.txt").read_text(encoding="utf-8").strip(),
+      "--size", "256", "--out", "{tmp}/chars", "--sheet", "{tmp}/sheet.png", "--no-progress"],
+     "sheet.png", "docs/sheet.png"),
 ])
 def test_shown_image_is_what_its_command_writes(tmp_path, argv, made, kept):
     argv = [a.format(tmp=tmp_path) for a in argv]
