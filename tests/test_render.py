@@ -232,8 +232,8 @@ def test_straight_strokes_stay_connected_at_any_drag_speed(radii_per_frame):
 
 def test_the_parts_are_slid_only_where_the_blend_breaks():
     # a steady drag at 3 belly radii a frame: the blended surface stays pressed and as wide all
-    # the way, so the blends alone leave the band (before, 51 of its 59 deposits also slid both
-    # parts, ~40 copies each, because the footprint moved more than half its width a frame)
+    # the way, so the blends alone leave the band, although the footprint moves more than half
+    # its width a frame
     model = bw.BrushModel.preset("small")
     L = model.tuft_length
     paper = bw.Paper(400, 40, 10)
@@ -307,12 +307,12 @@ def test_depletion_conserves_ink():
     model = bw.BrushModel.preset("small")
     brush = bw.Brush(model)
     ink = brush.load_ink(total_mm2=150.0)
-    before = ink.total()
+    loaded = ink.total()
     paper = bw.Paper(120, 30, 10, scene=bw.Scene(depletion=True))
     stats = draw(paper, brush, straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3))
-    lost = before - ink.total()
+    lost = loaded - ink.total()
     on_paper = float(paper.ink().sum()) / paper.px_per_mm ** 2
-    assert lost > 0.2 * before, "the stroke should use a good part of the ink"
+    assert lost > 0.2 * loaded, "the stroke should use a good part of the ink"
     assert abs(on_paper - lost) <= INK_CONSERVATION_REL * lost, f"paper {on_paper:.3f} vs lost {lost:.3f} mm^2"
     assert abs(ink.deposited - lost) <= INK_CONSERVATION_REL * lost
     assert sum(s.deposited for s in stats) == pytest.approx(ink.deposited)

@@ -996,13 +996,17 @@ def table(result: dict) -> str:
     return "\n".join(out)
 
 
-def plot(result: dict, path: str) -> None:
+PLOT_HINT = "plot skipped: it needs matplotlib (pip install 'brushwork[plot]')"
+
+
+def plot(result: dict, path: str) -> bool:
     """Log-log plot of the error medians against the median time per frame, one curve per
-    solver and setting family, the shipped default starred; written atomically to `path` (PNG)."""
+    solver and setting family, the shipped default starred; written atomically to `path` (PNG).
+    False, and nothing written, when matplotlib is not installed."""
     try:
         import matplotlib
     except ImportError:
-        raise ValueError("the precision plot needs matplotlib: pip install brushwork[plot]") from None
+        return False
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -1061,6 +1065,7 @@ def plot(result: dict, path: str) -> None:
         write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"), suffix=".png")
     finally:
         plt.close(fig)
+    return True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -1092,7 +1097,10 @@ def handle(args: argparse.Namespace) -> int:
                  progress=not args.no_progress)
     text = table(result)
     print(text)
-    plot(result, png)
+    if not plot(result, png):
+        print(PLOT_HINT)
+        png = "none"
+
     def write_md(tmp: str) -> None:
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text + "\n")
