@@ -579,10 +579,6 @@ DepositStats Paper::deposit(Brush& brush, Ink* ink) {
   // at t = 1/8 .. 7/8 against the narrower end's.  A blend that keeps at least kNeck of the
   // width leaves an unbroken band by itself: its copies are spaced no farther apart than this
   // frame's part is wide (below).  A centre that moves under half a pixel needs no slides.
-  // (Before, both parts were slid wherever the footprint's centre moved more
-  // than half the smaller part's narrower side, or one part's depth-weighted size was under
-  // half the other's: 21% of the frames of 20 GB2312 characters at 1024 px, 94% of the
-  // exits, a quarter of the deposit time; the slid blob painted past where the brush touched.)
   const bool both_below = wp > 0.0 && wc > 0.0;
   const double move_x = both_below ? ccx / wc - pcx / wp : 0.0, move_y = both_below ? ccy / wc - pcy / wp : 0.0;
   const double move_mm = std::hypot(move_x, move_y);
