@@ -626,3 +626,16 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     assert rows[-1][0] == -kai.hover
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
     assert beaded([r[1] for r in rows_off])
+
+
+def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):
+    """`brushwork params --style | head -1`: the reader has left; no error line, exit 0."""
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)                                   # the reader is gone before we write
+    with open(write_end, "w", buffering=1, encoding="utf-8") as closed_pipe:
+        monkeypatch.setattr(sys, "stdout", closed_pipe)
+        code = cli.main(["params", "--style"])
+        monkeypatch.undo()
+    assert code == 0 and capsys.readouterr().err == ""
