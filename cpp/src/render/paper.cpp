@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 #endif
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -49,27 +50,27 @@ Rect intersect(const Rect& a, const Rect& b) {
 }  // namespace
 
 void SceneFeatures::validate() const {
-  auto in01 = [](const char* name, double v, bool open_low) {
-    if (!std::isfinite(v) || v < 0.0 || v > 1.0 || (open_low && v == 0.0))
-      throw std::invalid_argument(std::string("scene.") + name + " = " + std::to_string(v) +
-                                  (open_low ? ": expected 0 < value <= 1" : ": expected 0..1"));
+  constexpr double kAny = std::numeric_limits<double>::infinity();  // no upper bound
+  // each real setting: name, value, range (lo excluded when open_low), the range as a message says it
+  struct Range {
+    const char* name;
+    double v, lo, hi;
+    bool open_low;
+    const char* expected;
   };
-  in01("dry_onset", dry_onset, true);
-  in01("grain_onset", grain_onset, true);
-  if (!std::isfinite(dry_pressure) || dry_pressure < 0 || dry_pressure > 10)
-    throw std::invalid_argument("scene.dry_pressure = " + std::to_string(dry_pressure) + ": expected 0..10");
-  if (!std::isfinite(grain_pressure) || grain_pressure < 0 || grain_pressure > 10)
-    throw std::invalid_argument("scene.grain_pressure = " + std::to_string(grain_pressure) + ": expected 0..10");
-  checks::positive("scene.grain_period_mm", grain_period_mm);
-  checks::positive("scene.soak_drain_mm", soak_drain_mm);
-  if (!std::isfinite(soak_expand) || soak_expand < 0 || soak_expand > 2)
-    throw std::invalid_argument("scene.soak_expand = " + std::to_string(soak_expand) + ": expected 0..2");
-  in01("soak_shift", soak_shift, false);
-  in01("capillary", capillary, false);
-  if (mesh_rings < 1 || mesh_rings > 64)
-    throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
-  if (mesh_around < 8 || mesh_around > 512)
-    throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+  const Range ranges[] = {
+      {"scene.dry_onset", dry_onset, 0.0, 1.0, true, "0 < value <= 1"},
+      {"scene.grain_onset", grain_onset, 0.0, 1.0, true, "0 < value <= 1"},
+      {"scene.dry_pressure", dry_pressure, 0.0, 10.0, false, "0..10"},
+      {"scene.grain_pressure", grain_pressure, 0.0, 10.0, false, "0..10"},
+      {"scene.grain_period_mm", grain_period_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.soak_drain_mm", soak_drain_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.soak_expand", soak_expand, 0.0, 2.0, false, "0..2"},
+      {"scene.soak_shift", soak_shift, 0.0, 1.0, false, "0..1"},
+      {"scene.capillary", capillary, 0.0, 1.0, false, "0..1"}};
+  for (const Range& r : ranges) checks::in_range(r.name, r.v, r.lo, r.hi, r.open_low, r.expected);
+  checks::count_in_range("scene.mesh_rings", mesh_rings, 1, 64);
+  checks::count_in_range("scene.mesh_around", mesh_around, 8, 512);
   if (!std::isfinite(mesh_px) || (mesh_px != 0.0 && (mesh_px < 0.5 || mesh_px > 100.0)))
     throw std::invalid_argument("scene.mesh_px = " + std::to_string(mesh_px) + ": expected 0 or 0.5..100");
   if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
@@ -304,14 +305,18 @@ MeshOptions Paper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, ppm_, scene_.mesh_px, scene_.mesh_rings, scene_.mesh_around);
 }
 
-DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
-  ctx_->make_current();
+void Paper::check_deposit(const Brush& brush, const Ink* ink) const {
   const int nodes = brush.model().n_segments + 1;
   if (nodes > kMaxNodes)
     throw std::invalid_argument("the renderer supports at most " + std::to_string(kMaxNodes - 1) + " spine segments");
   if (ink != nullptr) ink->validate(nodes);
   if (scene_.depletion && ink == nullptr)
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
+}
+
+DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
+  ctx_->make_current();
+  check_deposit(brush, ink);
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
   SweepFrame cur = sweep_frame(brush, mesh_options(brush.model()), scene_.soak_expand * excess);
