@@ -32,7 +32,16 @@ struct PaperTile {
 
 namespace {
 
+// procedural maps: the split and dry maps' texels along the spine and around, the grain
+// field's texels a side (one grain period)
 constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
+constexpr int kMaxPaperPx = 32768;  // px: the longest side of a paper
+constexpr int kMinTilePx = 16;      // px: the smallest tile side asked for
+constexpr int kMaxTilePx = 16384;   // px: the largest tile side asked for
+constexpr int kAutoTilePx = 4096;   // px: the tile side when none is asked (or the GL's limit)
+constexpr int kMinMapPx = 2;        // texels: the shortest side of a map image
+constexpr int kMaxMapPx = 8192;     // texels: the longest side of a map image
+constexpr float kMinAlpha = 1e-6f;  // coverage below which an image on transparency is left black
 
 using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
 
@@ -85,13 +94,14 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   checks::positive("px_per_mm", px_per_mm);
   scene_.validate();
   const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
-  if (w < 1 || h < 1 || w > 32768 || h > 32768)
+  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
     throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
-                                " px: each side must be 1..32768 px");
+                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
   W_ = static_cast<int>(w);
   H_ = static_cast<int>(h);
-  if (tile_px != 0 && (tile_px < 16 || tile_px > 16384))
-    throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or 16..16384");
+  if (tile_px != 0 && (tile_px < kMinTilePx || tile_px > kMaxTilePx))
+    throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or " +
+                                std::to_string(kMinTilePx) + ".." + std::to_string(kMaxTilePx));
 
   ctx_ = RenderContext::acquire();
   ctx_->make_current();
@@ -99,7 +109,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   gl::GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
   gl::GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
   const int limit = std::min({ctx_->info().max_texture_size, static_cast<int>(max_rb), max_vp[0], max_vp[1]});
-  T_ = std::min(tile_px > 0 ? tile_px : 4096, limit);
+  T_ = std::min(tile_px > 0 ? tile_px : kAutoTilePx, limit);
   GLint max_samples = 1;
   gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
   samples_ = std::clamp(static_cast<int>(max_samples), 1, scene_.samples);
@@ -187,9 +197,9 @@ Paper::~Paper() {
 }
 
 void Paper::set_map(const std::string& which, const float* data, int rows, int cols) {
-  if (rows < 2 || cols < 2 || rows > 8192 || cols > 8192)
-    throw std::invalid_argument(which + " map of " + std::to_string(rows) + " x " +
-                                std::to_string(cols) + ": each side must be 2..8192");
+  if (rows < kMinMapPx || cols < kMinMapPx || rows > kMaxMapPx || cols > kMaxMapPx)
+    throw std::invalid_argument(which + " map of " + std::to_string(rows) + " x " + std::to_string(cols) +
+                                ": each side must be " + std::to_string(kMinMapPx) + ".." + std::to_string(kMaxMapPx));
   for (long i = 0; i < static_cast<long>(rows) * cols; ++i)
     if (!std::isfinite(data[i]) || data[i] < 0.0f || data[i] > 1.0f)
       throw std::invalid_argument(which + " map: values must be in 0..1");
@@ -598,7 +608,7 @@ void image_row(const float* src, T* dst, int n, float top) {
     float p[4];
     for (int c = 0; c < 4; ++c) p[c] = std::clamp(src[c], 0.0f, 1.0f);
     float v[4];
-    for (int c = 0; c < 3; ++c) v[c] = kWhite ? (p[c] - p[3]) + 1.0f : (p[3] > 1e-6f ? p[c] / p[3] : 0.0f);
+    for (int c = 0; c < 3; ++c) v[c] = kWhite ? (p[c] - p[3]) + 1.0f : (p[3] > kMinAlpha ? p[c] / p[3] : 0.0f);
     v[3] = p[3];
     for (int c = 0; c < C; ++c) {
       // (the product is rounded to float first, as numpy does, then to an integer)

@@ -9,6 +9,11 @@ namespace brushwork {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kMinNormal = 1e-20f;  // mm^2: a summed normal this short has no direction (up is used)
+constexpr int kPressureSamples = 32;  // points around a section where its lowest point is looked for
+constexpr double kMinMinorRadius = 1e-3;  // mm: the least minor radius c a node's pressure is taken over
+
 // The render layout's uv and faces depend on the ring count, the vertices around and the winding
 // alone, not on the rest of the pose: the footprint pass builds a mesh every frame, so they are
 // made once per (rings, around, winding) and copied (re-indexing the faces took about half of a
@@ -133,7 +138,7 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
   for (int v = 0; v < RV; ++v) {
     Eigen::Map<Eigen::Vector3f> nv(&r.normal[3 * v]);
     const float len = nv.norm();
-    if (len > 1e-20f) nv /= len;
+    if (len > kMinNormal) nv /= len;
     else nv = Eigen::Vector3f::UnitZ();
   }
   return r;
@@ -142,19 +147,18 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
 std::vector<float> node_pressure(const Brush& brush) {
   const auto secs = brush.sections();
   std::vector<float> p(secs.size(), 0.0f);
-  constexpr int kSamples = 32;
   for (std::size_t i = 0; i < secs.size(); ++i) {
     const Section& s = secs[i];
     // lowest point of the two half ellipses, sampled around
     double zmin = s.center.z();
-    for (int k = 0; k < kSamples; ++k) {
-      const double t = 2.0 * 3.14159265358979323846 * k / kSamples;
+    for (int k = 0; k < kPressureSamples; ++k) {
+      const double t = 2.0 * kPi * k / kPressureSamples;
       const double ct = std::cos(t), st = std::sin(t);
       const double z = s.center.z() + (ct >= 0 ? s.a_plus : s.a_minus) * ct * s.u.z() +
                        s.c * st * s.w.z();
       zmin = std::min(zmin, z);
     }
-    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, 1e-3), 0.0, 1.0));
+    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, kMinMinorRadius), 0.0, 1.0));
   }
   return p;
 }
