@@ -95,19 +95,7 @@ BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) 
 
   brush_prog_ = ctx_->program(shaders::kViewVertex, shaders::kViewFragment, {});
   paper_prog_ = ctx_->program(shaders::kPaperVertex, shaders::kPaperFragment, {});
-  gl::GenVertexArrays(1, &vao_);
-  gl::GenBuffers(1, &vbo_);
-  gl::GenBuffers(1, &ibo_);
-  gl::BindVertexArray(vao_);
-  gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
-  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
-  const GLsizei stride = 8 * sizeof(float);  // position, normal, uv
-  gl::EnableVertexAttribArray(0);
-  gl::VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  gl::EnableVertexAttribArray(1);
-  gl::VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
-  gl::EnableVertexAttribArray(2);
-  gl::VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+  glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 2});  // position, normal, uv
   gl::GenVertexArrays(1, &paper_vao_);
   gl::GenBuffers(1, &paper_vbo_);
   gl::BindVertexArray(paper_vao_);
@@ -145,7 +133,6 @@ namespace {
 
 constexpr int kViewRings = 6;                // rings per spine segment of the viewed tuft
 constexpr int kViewAround = 48;              // vertices around one ring of the viewed tuft
-constexpr int kViewVertexFloats = 8;         // floats per vertex: position (3), normal (3), uv (2)
 constexpr float kNearPerspective = 0.02f;    // near plane over the eye's distance (perspective)
 constexpr float kNearOrtho = 0.01f;          // near plane over the eye's distance (orthographic)
 constexpr float kFar = 50.0f;                // far plane over the eye's distance
@@ -215,16 +202,8 @@ int BrushView::upload_tuft(const Brush& brush, const Ink* ink) {
   opt.around = kViewAround;
   const RenderMesh mesh = build_render_mesh(brush, opt);
   const int V = mesh.vertices();
-  std::vector<float> vb(static_cast<std::size_t>(kViewVertexFloats) * V);
-  for (int v = 0; v < V; ++v) {
-    float* o = &vb[kViewVertexFloats * static_cast<std::size_t>(v)];
-    for (int d = 0; d < 3; ++d) {
-      o[d] = mesh.position[3 * v + d];
-      o[3 + d] = mesh.normal[3 * v + d];
-    }
-    o[6] = mesh.uv[2 * v];
-    o[7] = mesh.uv[2 * v + 1];
-  }
+  const std::vector<float> vb =
+      glu::interleave(V, {{mesh.position.data(), 3}, {mesh.normal.data(), 3}, {mesh.uv.data(), 2}});
   gl::UseProgram(brush_prog_);
   gl::BindVertexArray(vao_);
   gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
