@@ -256,6 +256,48 @@ def test_the_parts_are_slid_only_where_the_blend_breaks():
         assert count - 1 == 1, f"{count - 1} ink pieces at tilt {tilt}, jump {jump} mm"
 
 
+def brush_after(model: bw.BrushModel, poses) -> bw.Brush:
+    brush = bw.Brush(model)
+    for pose in poses:
+        brush.step(pose)
+    return brush
+
+
+def test_the_sweep_plan_needs_no_gl():
+    # the plan the footprint pass draws, computed on the CPU alone, from the brush's surface now
+    # and at the last deposit
+    model = bw.BrushModel.preset("small")
+    L, ppm, size = model.tuft_length, 10.0, (1000, 400)
+    plan = lambda brush, last=None: bw._core.sweep_plan(brush, last, ppm, *size)  # noqa: E731
+    air = plan(brush_after(model, [bw.Pose((20.0, 20.0, 40.0))]))
+    assert not air["contact"] and not air["draws"]
+    assert air["faces"] == 0 and air["blends"] == 0 and air["rect"] == [0, 0, 0, 0]
+    # a touching brush moved by half its width: blends only, spaced at most 2.5 px apart
+    poses = straight_stroke(model, start=(15, 15), length_mm=60, step_mm=model.belly_radius, press=0.3)
+    last, brush = brush_after(model, poses[:25]), brush_after(model, poses[:26])
+    start = plan(brush)
+    assert start["new_stroke"] and start["blends"] == 1 and start["slides"] == (0, 0)
+    step = plan(brush, last)
+    assert step["contact"] and step["draws"] and not step["new_stroke"]
+    assert step["slides"] == (0, 0) and step["shift_mm"] == (0.0, 0.0)
+    assert step["travel_mm"] == pytest.approx(model.belly_radius, rel=0.1)
+    assert step["blends"] >= math.ceil(step["travel_mm"] * ppm / 2.5)
+    assert 0 < step["near_faces"] <= step["faces"]
+    # the rectangle covers the footprint of both deposits
+    x0, y0, x1, y1 = step["rect"]
+    for b in (last, brush):
+        for loop in b.footprint():
+            px = np.asarray(loop) * ppm
+            assert (px[:, 0] >= x0).all() and (px[:, 0] <= x1).all()
+            assert (px[:, 1] >= y0).all() and (px[:, 1] <= y1).all()
+    # pressed 0.4 L, then moved 6 mm in one frame and lifted to a light touch: the blend between
+    # the blob and the touch breaks, and both parts slide along the move (+x)
+    press = [bw.Pose((15.0, 15.0, 1.1 * L - (k + 1) / 10 * 0.4 * L), 0.0, 0.0) for k in range(10)]
+    jump = plan(brush_after(model, press + [bw.Pose((21.0, 15.0, 0.95 * L), 0.0, 0.0)]), brush_after(model, press))
+    assert jump["contact"] and min(jump["slides"]) > 0
+    assert jump["shift_mm"][0] > 3.0 and abs(jump["shift_mm"][1]) < 0.5
+
+
 def test_blended_footprints_are_close_enough_to_leave_no_saw_teeth():
     # a 2 mm-a-frame drag at 10 px/mm: 20 px between deposits.  The footprint has corners, and
     # a corner moved in steps of d leaves a staircase up to d/2 deep along a slanted edge, so

@@ -202,6 +202,7 @@ class Paper {
 
  private:
   void flush_stroke();
+  void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
   void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
                  const Ink* ink, double excess, DepositStats& stats);
   double layer_gain(const std::array<int, 4>& rect);  // mm^2 the stroke layer gained over rect
@@ -268,6 +269,11 @@ class BrushView {
               std::uint8_t* out);
 
  private:
+  void draw_paper(const std::vector<Paper::TileRef>& tiles, double px_per_mm, const float* mvp);
+  int upload_tuft(const Brush& brush, const Ink* ink);  // indices of its triangles
+  void draw_tuft(const ViewOptions& o, bool shadow, int n_idx, float dist, const float* mvp);
+  void read_back(std::uint8_t* out);  // (H, W, 4) RGBA8, row 0 at the top
+
   std::shared_ptr<RenderContext> ctx_;
   int W_, H_;
   unsigned fbo_ms_ = 0, color_ms_ = 0, depth_ms_ = 0, fbo_ = 0, color_ = 0;

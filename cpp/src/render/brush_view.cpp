@@ -1,6 +1,7 @@
 // The brush view: the tuft over the painting, for previews (seed "System prototype", Figure 8).
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -13,6 +14,8 @@ namespace brushwork {
 namespace {
 
 using Mat4 = Eigen::Matrix4f;
+
+constexpr float kPiF = 3.14159265f;  // pi in float, as the camera's arithmetic uses it
 
 // right-handed look-at (OpenGL convention: the camera looks down -z)
 Mat4 look_at(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, Eigen::Vector3f up) {
@@ -30,7 +33,7 @@ Mat4 look_at(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, Eigen::V
 }
 
 Mat4 perspective(float fov_deg, float aspect, float near, float far) {
-  const float t = 1.0f / std::tan(0.5f * fov_deg * 3.14159265f / 180.0f);
+  const float t = 1.0f / std::tan(0.5f * fov_deg * kPiF / 180.0f);
   Mat4 m = Mat4::Zero();
   m(0, 0) = t / aspect;
   m(1, 1) = t;
@@ -92,19 +95,7 @@ BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) 
 
   brush_prog_ = ctx_->program(shaders::kViewVertex, shaders::kViewFragment, {});
   paper_prog_ = ctx_->program(shaders::kPaperVertex, shaders::kPaperFragment, {});
-  gl::GenVertexArrays(1, &vao_);
-  gl::GenBuffers(1, &vbo_);
-  gl::GenBuffers(1, &ibo_);
-  gl::BindVertexArray(vao_);
-  gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
-  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
-  const GLsizei stride = 8 * sizeof(float);  // position, normal, uv
-  gl::EnableVertexAttribArray(0);
-  gl::VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, stride, nullptr);
-  gl::EnableVertexAttribArray(1);
-  gl::VertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(3 * sizeof(float)));
-  gl::EnableVertexAttribArray(2);
-  gl::VertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(6 * sizeof(float)));
+  glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 2});  // position, normal, uv
   gl::GenVertexArrays(1, &paper_vao_);
   gl::GenBuffers(1, &paper_vbo_);
   gl::BindVertexArray(paper_vao_);
@@ -138,82 +129,81 @@ BrushView::~BrushView() {
   gl::DeleteBuffers(1, &paper_vbo_);
 }
 
-void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
-                       std::uint8_t* out) {
-  o.validate();
-  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
-  ctx_->make_current();
-  // paper tiles first: they flush nothing, but may resolve the stroke in progress
-  const auto tiles = paper != nullptr ? paper->tile_textures() : std::vector<Paper::TileRef>{};
+namespace {
 
-  // camera
+constexpr int kViewRings = 6;                // rings per spine segment of the viewed tuft
+constexpr int kViewAround = 48;              // vertices around one ring of the viewed tuft
+constexpr float kNearPerspective = 0.02f;    // near plane over the eye's distance (perspective)
+constexpr float kNearOrtho = 0.01f;          // near plane over the eye's distance (orthographic)
+constexpr float kFar = 50.0f;                // far plane over the eye's distance
+constexpr float kShadowZ = 0.02f;            // mm above the paper the shadow is flattened to
+constexpr float kShadowAlpha = 0.28f;        // opacity of the shadow's black
+constexpr float kOutlinePx = 2.0f;           // px the outline shell stands out of the surface
+constexpr float kTransparentAlpha = 0.35f;   // opacity of the tuft in "transparent" mode
+const std::array<float, 4> kBackground{{0.82f, 0.82f, 0.80f, 1.0f}};  // RGBA around the paper
+const std::array<float, 3> kPaperColor{{0.97f, 0.955f, 0.92f}};        // RGB of the bare paper
+const std::array<float, 4> kOutlineColor{{0.95f, 0.55f, 0.1f, 1.0f}};  // a contrasting outline (seed Figure 8)
+
+// the camera of `o` on a W x H view: its matrix and the eye's distance to the target (mm)
+Mat4 camera(const ViewOptions& o, int W, int H, float& dist) {
   const Eigen::Vector3f eye = o.eye.cast<float>(), target = o.target.cast<float>();
-  const float dist = (eye - target).norm();
-  const float aspect = static_cast<float>(W_) / H_;
+  dist = (eye - target).norm();
+  const float aspect = static_cast<float>(W) / H;
   const Mat4 view = look_at(eye, target, Eigen::Vector3f::UnitZ());
   const Mat4 proj = o.fov_deg > 0.0
-                        ? perspective(static_cast<float>(o.fov_deg), aspect, 0.02f * dist, 50.0f * dist)
+                        ? perspective(static_cast<float>(o.fov_deg), aspect, kNearPerspective * dist, kFar * dist)
                         : orthographic(0.5f * static_cast<float>(o.ortho_height_mm) * aspect,
-                                       0.5f * static_cast<float>(o.ortho_height_mm), 0.01f * dist, 50.0f * dist);
-  const Mat4 mvp = proj * view;
+                                       0.5f * static_cast<float>(o.ortho_height_mm), kNearOrtho * dist, kFar * dist);
+  return proj * view;
+}
 
-  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_ms_);
-  gl::Viewport(0, 0, W_, H_);
-  gl::Disable(GL_SCISSOR_TEST);
-  gl::ClearColor(0.82f, 0.82f, 0.80f, 1.0f);
-  gl::ClearDepth(1.0);
-  gl::ClearStencil(0);
-  gl::DepthMask(GL_TRUE);
-  gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  gl::Enable(GL_DEPTH_TEST);
-  gl::DepthFunc(GL_LEQUAL);
+// blending of a flat colour over what is drawn, keeping the view's alpha opaque
+void blend_keeping_alpha() {
+  gl::Enable(GL_BLEND);
+  gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);
+}
 
-  // the paper: each tile a quad on z = 0 showing its ink on warm white
-  if (paper != nullptr) {
-    gl::UseProgram(paper_prog_);
-    gl::UniformMatrix4fv(glu::uniform(paper_prog_, "u_mvp"), 1, GL_FALSE, mvp.data());
-    gl::Uniform3f(glu::uniform(paper_prog_, "u_paper_color"), 0.97f, 0.955f, 0.92f);
-    gl::Uniform1i(glu::uniform(paper_prog_, "u_paper"), 0);
-    gl::Uniform1i(glu::uniform(paper_prog_, "u_layer"), 1);
-    gl::BindVertexArray(paper_vao_);
-    const double ppm = paper->px_per_mm();
-    for (const auto& t : tiles) {
-      const float x0 = static_cast<float>(t.x0 / ppm), y0 = static_cast<float>(t.y0 / ppm);
-      const float x1 = static_cast<float>((t.x0 + t.w) / ppm), y1 = static_cast<float>((t.y0 + t.h) / ppm);
-      const float quad[24] = {x0, y0, 0, 0, x1, y0, 1, 0, x1, y1, 1, 1,
-                              x0, y0, 0, 0, x1, y1, 1, 1, x0, y1, 0, 1};
-      gl::BindBuffer(GL_ARRAY_BUFFER, paper_vbo_);
-      gl::BufferData(GL_ARRAY_BUFFER, sizeof(quad), quad, GL_STREAM_DRAW);
-      for (int u = 0; u < 2; ++u) {
-        gl::ActiveTexture(GL_TEXTURE0 + u);
-        gl::BindTexture(GL_TEXTURE_2D, u == 0 ? t.paper : t.layer);
-        // the float ink is sampled with linear filtering when the view magnifies it
-        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-      }
-      gl::Uniform1i(glu::uniform(paper_prog_, "u_has_layer"), t.layer != 0 ? 1 : 0);
-      gl::Uniform4f(glu::uniform(paper_prog_, "u_layer_ink"), t.layer_ink[0], t.layer_ink[1], t.layer_ink[2],
-                    t.layer_ink[3]);
-      gl::DrawArrays(GL_TRIANGLES, 0, 6);
+}  // namespace
+
+void BrushView::draw_paper(const std::vector<Paper::TileRef>& tiles, double ppm, const float* mvp) {
+  // each tile a quad on z = 0 showing its ink on warm white
+  gl::UseProgram(paper_prog_);
+  gl::UniformMatrix4fv(glu::uniform(paper_prog_, "u_mvp"), 1, GL_FALSE, mvp);
+  gl::Uniform3f(glu::uniform(paper_prog_, "u_paper_color"), kPaperColor[0], kPaperColor[1], kPaperColor[2]);
+  gl::Uniform1i(glu::uniform(paper_prog_, "u_paper"), 0);
+  gl::Uniform1i(glu::uniform(paper_prog_, "u_layer"), 1);
+  gl::BindVertexArray(paper_vao_);
+  for (const auto& t : tiles) {
+    const float x0 = static_cast<float>(t.x0 / ppm), y0 = static_cast<float>(t.y0 / ppm);
+    const float x1 = static_cast<float>((t.x0 + t.w) / ppm), y1 = static_cast<float>((t.y0 + t.h) / ppm);
+    const float quad[24] = {x0, y0, 0, 0, x1, y0, 1, 0, x1, y1, 1, 1,
+                            x0, y0, 0, 0, x1, y1, 1, 1, x0, y1, 0, 1};
+    gl::BindBuffer(GL_ARRAY_BUFFER, paper_vbo_);
+    gl::BufferData(GL_ARRAY_BUFFER, sizeof(quad), quad, GL_STREAM_DRAW);
+    for (int u = 0; u < 2; ++u) {
+      gl::ActiveTexture(GL_TEXTURE0 + u);
+      gl::BindTexture(GL_TEXTURE_2D, u == 0 ? t.paper : t.layer);
+      // the float ink is sampled with linear filtering when the view magnifies it
+      gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     }
-    gl::ActiveTexture(GL_TEXTURE0);
+    gl::Uniform1i(glu::uniform(paper_prog_, "u_has_layer"), t.layer != 0 ? 1 : 0);
+    gl::Uniform4f(glu::uniform(paper_prog_, "u_layer_ink"), t.layer_ink[0], t.layer_ink[1], t.layer_ink[2],
+                  t.layer_ink[3]);
+    gl::DrawArrays(GL_TRIANGLES, 0, 6);
   }
+  gl::ActiveTexture(GL_TEXTURE0);
+}
 
-  // the tuft: positions, normals, uv
+int BrushView::upload_tuft(const Brush& brush, const Ink* ink) {
+  // the tuft: positions, normals, uv; its ink's colours along the spine in the ramp texture
   MeshOptions opt;
-  opt.rings_per_segment = 6;
-  opt.around = 48;
+  opt.rings_per_segment = kViewRings;
+  opt.around = kViewAround;
   const RenderMesh mesh = build_render_mesh(brush, opt);
   const int V = mesh.vertices();
-  std::vector<float> vb(static_cast<std::size_t>(8) * V);
-  for (int v = 0; v < V; ++v) {
-    for (int d = 0; d < 3; ++d) {
-      vb[8 * v + d] = mesh.position[3 * v + d];
-      vb[8 * v + 3 + d] = mesh.normal[3 * v + d];
-    }
-    vb[8 * v + 6] = mesh.uv[2 * v];
-    vb[8 * v + 7] = mesh.uv[2 * v + 1];
-  }
+  const std::vector<float> vb =
+      glu::interleave(V, {{mesh.position.data(), 3}, {mesh.normal.data(), 3}, {mesh.uv.data(), 2}});
   gl::UseProgram(brush_prog_);
   gl::BindVertexArray(vao_);
   gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
@@ -221,33 +211,36 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
   gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
   gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.faces.size() * sizeof(std::uint32_t)),
                  mesh.faces.data(), GL_STREAM_DRAW);
-  const auto n_idx = static_cast<GLsizei>(mesh.faces.size());
   std::vector<std::array<float, 4>> ramp = ink != nullptr ? ink->ramp : std::vector<std::array<float, 4>>{{0, 0, 0, 1}};
   gl::ActiveTexture(GL_TEXTURE0);
   gl::BindTexture(GL_TEXTURE_2D, ramp_tex_);
   gl::TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, static_cast<GLsizei>(ramp.size()), 1, 0, GL_RGBA, GL_FLOAT, ramp.data());
+  return static_cast<int>(mesh.faces.size());
+}
+
+void BrushView::draw_tuft(const ViewOptions& o, bool shadow, int n_idx, float dist, const float* mvp) {
   const Eigen::Vector3f light = o.light.cast<float>().normalized();
-  gl::UniformMatrix4fv(glu::uniform(brush_prog_, "u_mvp"), 1, GL_FALSE, mvp.data());
+  gl::UniformMatrix4fv(glu::uniform(brush_prog_, "u_mvp"), 1, GL_FALSE, mvp);
   gl::Uniform1i(glu::uniform(brush_prog_, "u_ramp"), 0);
   gl::Uniform3f(glu::uniform(brush_prog_, "u_light"), light.x(), light.y(), light.z());
   const GLint u_push = glu::uniform(brush_prog_, "u_push"), u_flat = glu::uniform(brush_prog_, "u_flat");
   const GLint u_shadow = glu::uniform(brush_prog_, "u_shadow"), u_shade = glu::uniform(brush_prog_, "u_shade");
   const GLint u_alpha = glu::uniform(brush_prog_, "u_alpha");
   gl::Uniform3f(glu::uniform(brush_prog_, "u_flatten"), light.x(), light.y(), light.z());
+  auto draw = [n_idx] { gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr); };
 
   // shadow: the tuft flattened onto the paper along the light, darkened once (stencil)
-  if (o.shadow && paper != nullptr) {
-    gl::Uniform1f(glu::uniform(brush_prog_, "u_flatten_z"), 0.02f);
+  if (shadow) {
+    gl::Uniform1f(glu::uniform(brush_prog_, "u_flatten_z"), kShadowZ);
     gl::Uniform1i(u_shadow, 1);
     gl::Uniform1f(u_push, 0.0f);
-    gl::Uniform4f(u_flat, 0.0f, 0.0f, 0.0f, 0.28f);
+    gl::Uniform4f(u_flat, 0.0f, 0.0f, 0.0f, kShadowAlpha);
     gl::Enable(GL_STENCIL_TEST);
     gl::StencilFunc(GL_NOTEQUAL, 1, 0xFF);
     gl::StencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    gl::Enable(GL_BLEND);
-    gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // keep alpha opaque
+    blend_keeping_alpha();
     gl::DepthMask(GL_FALSE);
-    gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+    draw();
     gl::DepthMask(GL_TRUE);
     gl::Disable(GL_STENCIL_TEST);
     gl::Disable(GL_BLEND);
@@ -256,14 +249,14 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
 
   // outline: a shell pushed out along the normals, back faces only, drawn dark
   if (o.mode == "outlined") {
-    const float px_mm = (o.fov_deg > 0.0 ? 2.0f * dist * std::tan(0.5f * static_cast<float>(o.fov_deg) * 3.14159265f / 180.0f)
+    const float px_mm = (o.fov_deg > 0.0 ? 2.0f * dist * std::tan(0.5f * static_cast<float>(o.fov_deg) * kPiF / 180.0f)
                                          : static_cast<float>(o.ortho_height_mm)) / H_;
-    gl::Uniform1f(u_push, 2.0f * px_mm);
-    gl::Uniform4f(u_flat, 0.95f, 0.55f, 0.1f, 1.0f);  // a contrasting outline (seed Figure 8)
+    gl::Uniform1f(u_push, kOutlinePx * px_mm);
+    gl::Uniform4f(u_flat, kOutlineColor[0], kOutlineColor[1], kOutlineColor[2], kOutlineColor[3]);
     gl::Enable(GL_CULL_FACE);
     gl::FrontFace(GL_CCW);
     gl::CullFace(GL_FRONT);
-    gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+    draw();
     gl::Disable(GL_CULL_FACE);
     gl::Uniform1f(u_push, 0.0f);
   }
@@ -271,23 +264,21 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
   // the tuft itself
   gl::Uniform4f(u_flat, 0, 0, 0, 0);
   gl::Uniform1i(u_shade, o.mode == "outlined" ? 0 : 1);
-  if (o.mode == "transparent") {
-    gl::Uniform1f(u_alpha, 0.35f);
-    gl::Enable(GL_BLEND);
-    gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE);  // keep alpha opaque
+  const bool transparent = o.mode == "transparent";
+  gl::Uniform1f(u_alpha, transparent ? kTransparentAlpha : 1.0f);
+  if (transparent) {
+    blend_keeping_alpha();
     gl::DepthMask(GL_FALSE);
-  } else {
-    gl::Uniform1f(u_alpha, 1.0f);
   }
   gl::Enable(GL_CULL_FACE);
   gl::CullFace(GL_BACK);
-  gl::DrawElements(GL_TRIANGLES, n_idx, GL_UNSIGNED_INT, nullptr);
+  draw();
   gl::Disable(GL_CULL_FACE);
   gl::DepthMask(GL_TRUE);
   gl::Disable(GL_BLEND);
-  gl::Disable(GL_DEPTH_TEST);
-  gl::BindVertexArray(0);
+}
 
+void BrushView::read_back(std::uint8_t* out) {
   // resolve the samples and read back; GL rows run bottom-up, flipped here once
   gl::BindFramebuffer(GL_READ_FRAMEBUFFER, fbo_ms_);
   gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_);
@@ -298,6 +289,34 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
   gl::ReadPixels(0, 0, W_, H_, GL_RGBA, GL_UNSIGNED_BYTE, buf.data());
   for (int j = 0; j < H_; ++j)
     std::copy_n(&buf[4 * static_cast<std::size_t>(j) * W_], 4 * W_, out + 4 * static_cast<std::size_t>(H_ - 1 - j) * W_);
+}
+
+void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
+                       std::uint8_t* out) {
+  o.validate();
+  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
+  ctx_->make_current();
+  // paper tiles first: they flush nothing, but may resolve the stroke in progress
+  const auto tiles = paper != nullptr ? paper->tile_textures() : std::vector<Paper::TileRef>{};
+  float dist = 0.0f;
+  const Mat4 mvp = camera(o, W_, H_, dist);
+
+  gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_ms_);
+  gl::Viewport(0, 0, W_, H_);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::ClearColor(kBackground[0], kBackground[1], kBackground[2], kBackground[3]);
+  gl::ClearDepth(1.0);
+  gl::ClearStencil(0);
+  gl::DepthMask(GL_TRUE);
+  gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  gl::Enable(GL_DEPTH_TEST);
+  gl::DepthFunc(GL_LEQUAL);
+  if (paper != nullptr) draw_paper(tiles, paper->px_per_mm(), mvp.data());
+  const int n_idx = upload_tuft(brush, ink);
+  draw_tuft(o, o.shadow && paper != nullptr, n_idx, dist, mvp.data());
+  gl::Disable(GL_DEPTH_TEST);
+  gl::BindVertexArray(0);
+  read_back(out);
   glu::check("brush view");
 }
 

@@ -19,4 +19,11 @@ inline void in_range(const std::string& name, double v, double lo, double hi, bo
     throw std::invalid_argument(name + " = " + std::to_string(v) + ": expected " + expected);
 }
 
+// lo <= v <= hi for a count, written as an integer in the message
+inline void count_in_range(const std::string& name, int v, int lo, int hi) {
+  if (v < lo || v > hi)
+    throw std::invalid_argument(name + " = " + std::to_string(v) + ": expected " + std::to_string(lo) + ".." +
+                                std::to_string(hi));
+}
+
 }  // namespace brushwork::checks

@@ -142,113 +142,144 @@ std::shared_ptr<RenderContext> RenderContext::acquire() {
   return ctx;
 }
 
-void RenderContext::open() {
+namespace {
+
+constexpr int kMaxEglDevices = 16;  // EGL devices enumerated at most
+
+// BRUSHWORK_RENDER checked: auto (unset), gpu or software; disable throws
+std::string render_mode() {
   const std::string mode = env("BRUSHWORK_RENDER").empty() ? "auto" : env("BRUSHWORK_RENDER");
   if (mode != "auto" && mode != "gpu" && mode != "software" && mode != "disable")
     throw std::invalid_argument("BRUSHWORK_RENDER = '" + mode +
                                 "': expected auto, gpu, software or disable");
   if (mode == "disable")
     throw std::runtime_error("rendering is disabled (BRUSHWORK_RENDER=disable); unset it to render");
+  return mode;
+}
 
+// the EGL library with its core entry points, or a runtime_error saying what to install
+Egl& loaded_egl() {
   Egl& e = egl();
   if (e.lib == nullptr)
     throw std::runtime_error(std::string("no EGL library (libEGL.so.1 not found): ") + kInstallHint);
   if (e.GetProcAddress == nullptr || e.Initialize == nullptr || e.CreateContext == nullptr)
     throw std::runtime_error(std::string("libEGL.so.1 lacks core EGL 1.4 entry points: ") +
                              kInstallHint);
+  return e;
+}
 
-  // the device the user asked for, range-checked once the devices are known
+// the device the user asked for (BRUSHWORK_EGL_DEVICE), -1 for none; range-checked once the
+// devices are known
+int wanted_device() {
   const std::string dev_env = env("BRUSHWORK_EGL_DEVICE");
-  int wanted = -1;
-  if (!dev_env.empty()) {
-    char* end = nullptr;
-    const long v = std::strtol(dev_env.c_str(), &end, 10);
-    if (end == dev_env.c_str() || *end != '\0' || v < 0)
-      throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = '" + dev_env +
-                                  "': expected a device index 0, 1, ...");
-    wanted = static_cast<int>(v);
-  }
+  if (dev_env.empty()) return -1;
+  char* end = nullptr;
+  const long v = std::strtol(dev_env.c_str(), &end, 10);
+  if (end == dev_env.c_str() || *end != '\0' || v < 0)
+    throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = '" + dev_env + "': expected a device index 0, 1, ...");
+  return static_cast<int>(v);
+}
 
-  std::string tried;
+// Mesa lists its software device too: in auto mode it is left to the surfaceless path
+bool software_device(Egl& e, EGLDeviceEXT device) {
+  auto* query_device_string =
+      reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(e.GetProcAddress("eglQueryDeviceStringEXT"));
+  if (query_device_string == nullptr) return false;
+  const char* ext = query_device_string(device, EGL_EXTENSIONS);
+  return ext != nullptr && std::string(ext).find("EGL_MESA_device_software") != std::string::npos;
+}
+
+// where a context was made: its display and context (EGL_NO_CONTEXT while none), and what
+// each path tried said
+struct Opened {
   EGLDisplay dpy = EGL_NO_DISPLAY;
   EGLContext ctx = EGL_NO_CONTEXT;
+  std::string tried;
+};
 
-  // 1. a GPU through EGL device enumeration (skipped for software)
-  if (mode != "software" && e.QueryDevices != nullptr && e.GetPlatformDisplay != nullptr) {
-    EGLDeviceEXT devices[16];
-    EGLint count = 0;
-    if (e.QueryDevices(16, devices, &count) != EGL_TRUE) count = 0;
-    info_.device_count = count;
-    if (wanted >= count)
-      throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = " + std::to_string(wanted) +
-                                  " is out of range: " + std::to_string(count) +
-                                  " EGL device(s), indices 0.." + std::to_string(count - 1));
-    auto* query_device_string = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(
-        e.GetProcAddress("eglQueryDeviceStringEXT"));
-    for (int i = 0; i < count && ctx == EGL_NO_CONTEXT; ++i) {
-      if (wanted >= 0 && i != wanted) continue;
-      // Mesa lists its software device too; in auto mode leave it to the surfaceless path
-      if (query_device_string != nullptr && wanted < 0) {
-        const char* ext = query_device_string(devices[i], EGL_EXTENSIONS);
-        if (ext != nullptr && std::string(ext).find("EGL_MESA_device_software") != std::string::npos)
-          continue;
-      }
-      dpy = e.GetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
-      std::string why;
-      ctx = try_context(e, dpy, why);
-      if (ctx != EGL_NO_CONTEXT) {
-        info_.backend = "egl-device";
-        info_.device_index = i;
-      } else {
-        tried += "device " + std::to_string(i) + ": " + why + "; ";
-      }
+// 1. a GPU through EGL device enumeration: the wanted device, or the first that initialises
+void try_devices(Egl& e, int wanted, RenderInfo& info, Opened& o) {
+  EGLDeviceEXT devices[kMaxEglDevices];
+  EGLint count = 0;
+  if (e.QueryDevices(kMaxEglDevices, devices, &count) != EGL_TRUE) count = 0;
+  info.device_count = count;
+  if (wanted >= count)
+    throw std::invalid_argument("BRUSHWORK_EGL_DEVICE = " + std::to_string(wanted) +
+                                " is out of range: " + std::to_string(count) +
+                                " EGL device(s), indices 0.." + std::to_string(count - 1));
+  for (int i = 0; i < count && o.ctx == EGL_NO_CONTEXT; ++i) {
+    if (wanted >= 0 && i != wanted) continue;
+    if (wanted < 0 && software_device(e, devices[i])) continue;
+    o.dpy = e.GetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    std::string why;
+    o.ctx = try_context(e, o.dpy, why);
+    if (o.ctx != EGL_NO_CONTEXT) {
+      info.backend = "egl-device";
+      info.device_index = i;
+    } else {
+      o.tried += "device " + std::to_string(i) + ": " + why + "; ";
     }
-  } else if (wanted >= 0 && mode != "software") {
-    throw std::invalid_argument("BRUSHWORK_EGL_DEVICE is set but this EGL has no device "
-                                "enumeration (EGL_EXT_device_enumeration)");
   }
-  if (ctx == EGL_NO_CONTEXT && mode == "gpu")
-    throw std::runtime_error("BRUSHWORK_RENDER=gpu but no EGL GPU device initialised (" + tried +
-                             "); install the NVIDIA driver's EGL (libnvidia-egl / libEGL_nvidia) "
-                             "or use BRUSHWORK_RENDER=auto");
+}
 
-  // 2. Mesa's surfaceless platform (llvmpipe when there is no GPU)
-  if (ctx == EGL_NO_CONTEXT && e.GetPlatformDisplay != nullptr) {
-    dpy = e.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    std::string why;
-    ctx = try_context(e, dpy, why);
-    if (ctx != EGL_NO_CONTEXT) info_.backend = "mesa-surfaceless";
-    else tried += "mesa surfaceless: " + why + "; ";
-  }
-  // 3. the default display
-  if (ctx == EGL_NO_CONTEXT) {
-    dpy = e.GetDisplay(EGL_DEFAULT_DISPLAY);
-    std::string why;
-    ctx = try_context(e, dpy, why);
-    if (ctx != EGL_NO_CONTEXT) info_.backend = "default-display";
-    else tried += "default display: " + why + "; ";
-  }
-  if (ctx == EGL_NO_CONTEXT)
-    throw std::runtime_error("no usable EGL display with OpenGL 3.3 core (" + tried + "): " +
-                             kInstallHint);
+// a context on `dpy`, the path named `backend` (and `label` in the list of what was tried)
+void try_display(Egl& e, EGLDisplay dpy, const char* backend, const char* label, RenderInfo& info, Opened& o) {
+  o.dpy = dpy;
+  std::string why;
+  o.ctx = try_context(e, dpy, why);
+  if (o.ctx != EGL_NO_CONTEXT) info.backend = backend;
+  else o.tried += std::string(label) + ": " + why + "; ";
+}
 
-  display_ = dpy;
-  context_ = ctx;
-  if (const char* missing = gl::load(reinterpret_cast<gl::ProcGetter>(e.GetProcAddress))) {
-    close();
-    throw std::runtime_error(std::string("OpenGL entry point ") + missing +
-                             " is missing: " + kInstallHint);
-  }
+// the driver's name and limits
+void read_gl_info(RenderInfo& info) {
   auto str = [](GLenum name) {
     const GLubyte* s = gl::GetString(name);
     return s == nullptr ? std::string("?") : std::string(reinterpret_cast<const char*>(s));
   };
-  info_.vendor = str(GL_VENDOR);
-  info_.renderer = str(GL_RENDERER);
-  info_.version = str(GL_VERSION);
+  info.vendor = str(GL_VENDOR);
+  info.renderer = str(GL_RENDERER);
+  info.version = str(GL_VERSION);
   GLint max_tex = 0;
   gl::GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
-  info_.max_texture_size = max_tex;
+  info.max_texture_size = max_tex;
+}
+
+}  // namespace
+
+void RenderContext::open() {
+  const std::string mode = render_mode();
+  Egl& e = loaded_egl();
+  const int wanted = wanted_device();
+  Opened o;
+  // 1. a GPU through EGL device enumeration (skipped for software)
+  if (mode != "software" && e.QueryDevices != nullptr && e.GetPlatformDisplay != nullptr) {
+    try_devices(e, wanted, info_, o);
+  } else if (wanted >= 0 && mode != "software") {
+    throw std::invalid_argument("BRUSHWORK_EGL_DEVICE is set but this EGL has no device "
+                                "enumeration (EGL_EXT_device_enumeration)");
+  }
+  if (o.ctx == EGL_NO_CONTEXT && mode == "gpu")
+    throw std::runtime_error("BRUSHWORK_RENDER=gpu but no EGL GPU device initialised (" + o.tried +
+                             "); install the NVIDIA driver's EGL (libnvidia-egl / libEGL_nvidia) "
+                             "or use BRUSHWORK_RENDER=auto");
+  // 2. Mesa's surfaceless platform (llvmpipe when there is no GPU)
+  if (o.ctx == EGL_NO_CONTEXT && e.GetPlatformDisplay != nullptr)
+    try_display(e, e.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr),
+                "mesa-surfaceless", "mesa surfaceless", info_, o);
+  // 3. the default display
+  if (o.ctx == EGL_NO_CONTEXT)
+    try_display(e, e.GetDisplay(EGL_DEFAULT_DISPLAY), "default-display", "default display", info_, o);
+  if (o.ctx == EGL_NO_CONTEXT)
+    throw std::runtime_error("no usable EGL display with OpenGL 3.3 core (" + o.tried + "): " + kInstallHint);
+
+  display_ = o.dpy;
+  context_ = o.ctx;
+  if (const char* missing = gl::load(reinterpret_cast<gl::ProcGetter>(e.GetProcAddress))) {
+    close();
+    throw std::runtime_error(std::string("OpenGL entry point ") + missing + " is missing: " + kInstallHint);
+  }
+  read_gl_info(info_);
 }
 
 unsigned RenderContext::program(const char* vertex, const char* fragment,

@@ -12,8 +12,6 @@ namespace brushwork {
 
 namespace {
 
-constexpr int kVertexFloats = 14;  // floats per vertex: prev (3), cur (3), centre prev (3), centre cur (3), uv (2)
-
 // the footprint shader's #defines for the features `scene` uses, and for max blending
 std::vector<std::string> feature_defines(const SceneFeatures& scene, bool max_blend) {
   const std::pair<bool, const char*> table[] = {
@@ -50,22 +48,8 @@ FootprintPass::FootprintPass(RenderContext& ctx, const SceneFeatures& scene, boo
       {&u_maps_[2], "u_grain"}, {&u_maps_[3], "u_ramp"},    {&u_soak_shift_, "u_soak_shift"},
       {&u_dry_param_, "u_dry_param"}, {&u_grain_scale_, "u_grain_scale"}};
   for (const auto& [loc, name] : uniforms) *loc = glu::uniform(prog_, name);
-  gl::GenVertexArrays(1, &vao_);
-  gl::GenBuffers(1, &vbo_);
-  gl::GenBuffers(1, &ibo_);
-  gl::BindVertexArray(vao_);
-  gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);
-  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
   // interleaved: prev (3), cur (3), centre prev (3), centre cur (3), uv (2) floats
-  const GLsizei stride = kVertexFloats * sizeof(float);
-  const int sizes[5] = {3, 3, 3, 3, 2};
-  std::size_t off = 0;
-  for (GLuint a = 0; a < 5; ++a) {
-    gl::EnableVertexAttribArray(a);
-    gl::VertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(off));
-    off += sizes[a] * sizeof(float);
-  }
-  gl::BindVertexArray(0);
+  glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 3, 3, 2});
 }
 
 void FootprintPass::release() {
@@ -77,18 +61,9 @@ void FootprintPass::release() {
 void FootprintPass::upload(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur) {
   // vertex data: prev, cur, centre prev, centre cur, uv
   const int V = cur.vertices();
-  std::vector<float> vb(static_cast<std::size_t>(kVertexFloats) * V);
-  for (int v = 0; v < V; ++v) {
-    float* o = &vb[kVertexFloats * static_cast<std::size_t>(v)];
-    for (int d = 0; d < 3; ++d) {
-      o[d] = last.position[3 * v + d];
-      o[3 + d] = cur.position[3 * v + d];
-      o[6 + d] = last.center[3 * v + d];
-      o[9 + d] = cur.center[3 * v + d];
-    }
-    o[12] = cur.uv[2 * v];
-    o[13] = cur.uv[2 * v + 1];
-  }
+  const std::vector<float> vb = glu::interleave(V, {{last.position.data(), 3}, {cur.position.data(), 3},
+                                                      {last.center.data(), 3}, {cur.center.data(), 3},
+                                                      {cur.uv.data(), 2}});
   gl::UseProgram(prog_);
   gl::BindVertexArray(vao_);
   gl::BindBuffer(GL_ARRAY_BUFFER, vbo_);

@@ -67,6 +67,25 @@ GLuint texture(GLenum internal, int w, int h, GLenum format, GLenum type, const 
   return tex;
 }
 
+void indexed_vertex_array(GLuint& vao, GLuint& vbo, GLuint& ibo, std::initializer_list<int> widths) {
+  gl::GenVertexArrays(1, &vao);
+  gl::GenBuffers(1, &vbo);
+  gl::GenBuffers(1, &ibo);
+  gl::BindVertexArray(vao);
+  gl::BindBuffer(GL_ARRAY_BUFFER, vbo);
+  gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);
+  GLsizei stride = 0;
+  for (const int w : widths) stride += w * static_cast<GLsizei>(sizeof(float));
+  std::size_t off = 0;
+  GLuint a = 0;
+  for (const int w : widths) {
+    gl::EnableVertexAttribArray(a);
+    gl::VertexAttribPointer(a++, w, GL_FLOAT, GL_FALSE, stride, reinterpret_cast<const void*>(off));
+    off += w * sizeof(float);
+  }
+  gl::BindVertexArray(0);
+}
+
 void check_framebuffer(const char* what) {
   const GLenum st = gl::CheckFramebufferStatus(GL_FRAMEBUFFER);
   if (st != GL_FRAMEBUFFER_COMPLETE)

@@ -2,7 +2,9 @@
 // framebuffers, error checks that throw std::runtime_error with the operation's name.
 #pragma once
 
+#include <initializer_list>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "gl_api.hpp"
@@ -27,5 +29,23 @@ void check(const char* what);
 
 // uniform location, -1 tolerated (the feature may be compiled out)
 inline GLint uniform(GLuint prog, const char* name) { return gl::GetUniformLocation(prog, name); }
+
+// a new vertex array `vao` over new buffers `vbo` (vertices) and `ibo` (indices): attribute a
+// is widths[a] floats, interleaved in that order; leaves no vertex array bound
+void indexed_vertex_array(GLuint& vao, GLuint& vbo, GLuint& ibo, std::initializer_list<int> widths);
+
+// vertex attributes interleaved for one buffer: (V, sum of widths) floats, each attribute a
+// (V, width) array given as (data, width), in the order listed
+inline std::vector<float> interleave(int V, std::initializer_list<std::pair<const float*, int>> attributes) {
+  int stride = 0;
+  for (const auto& a : attributes) stride += a.second;
+  std::vector<float> out(static_cast<std::size_t>(stride) * V);
+  for (int v = 0; v < V; ++v) {
+    float* o = &out[static_cast<std::size_t>(stride) * v];
+    for (const auto& [data, width] : attributes)
+      for (int d = 0; d < width; ++d) *o++ = data[static_cast<std::size_t>(width) * v + d];
+  }
+  return out;
+}
 
 }  // namespace brushwork::glu

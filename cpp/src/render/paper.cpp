@@ -6,6 +6,7 @@
 #include <xmmintrin.h>
 #endif
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -31,7 +32,16 @@ struct PaperTile {
 
 namespace {
 
+// procedural maps: the split and dry maps' texels along the spine and around, the grain
+// field's texels a side (one grain period)
 constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
+constexpr int kMaxPaperPx = 32768;  // px: the longest side of a paper
+constexpr int kMinTilePx = 16;      // px: the smallest tile side asked for
+constexpr int kMaxTilePx = 16384;   // px: the largest tile side asked for
+constexpr int kAutoTilePx = 4096;   // px: the tile side when none is asked (or the GL's limit)
+constexpr int kMinMapPx = 2;        // texels: the shortest side of a map image
+constexpr int kMaxMapPx = 8192;     // texels: the longest side of a map image
+constexpr float kMinAlpha = 1e-6f;  // coverage below which an image on transparency is left black
 
 using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
 
@@ -49,27 +59,27 @@ Rect intersect(const Rect& a, const Rect& b) {
 }  // namespace
 
 void SceneFeatures::validate() const {
-  auto in01 = [](const char* name, double v, bool open_low) {
-    if (!std::isfinite(v) || v < 0.0 || v > 1.0 || (open_low && v == 0.0))
-      throw std::invalid_argument(std::string("scene.") + name + " = " + std::to_string(v) +
-                                  (open_low ? ": expected 0 < value <= 1" : ": expected 0..1"));
+  constexpr double kAny = std::numeric_limits<double>::infinity();  // no upper bound
+  // each real setting: name, value, range (lo excluded when open_low), the range as a message says it
+  struct Range {
+    const char* name;
+    double v, lo, hi;
+    bool open_low;
+    const char* expected;
   };
-  in01("dry_onset", dry_onset, true);
-  in01("grain_onset", grain_onset, true);
-  if (!std::isfinite(dry_pressure) || dry_pressure < 0 || dry_pressure > 10)
-    throw std::invalid_argument("scene.dry_pressure = " + std::to_string(dry_pressure) + ": expected 0..10");
-  if (!std::isfinite(grain_pressure) || grain_pressure < 0 || grain_pressure > 10)
-    throw std::invalid_argument("scene.grain_pressure = " + std::to_string(grain_pressure) + ": expected 0..10");
-  checks::positive("scene.grain_period_mm", grain_period_mm);
-  checks::positive("scene.soak_drain_mm", soak_drain_mm);
-  if (!std::isfinite(soak_expand) || soak_expand < 0 || soak_expand > 2)
-    throw std::invalid_argument("scene.soak_expand = " + std::to_string(soak_expand) + ": expected 0..2");
-  in01("soak_shift", soak_shift, false);
-  in01("capillary", capillary, false);
-  if (mesh_rings < 1 || mesh_rings > 64)
-    throw std::invalid_argument("scene.mesh_rings = " + std::to_string(mesh_rings) + ": expected 1..64");
-  if (mesh_around < 8 || mesh_around > 512)
-    throw std::invalid_argument("scene.mesh_around = " + std::to_string(mesh_around) + ": expected 8..512");
+  const Range ranges[] = {
+      {"scene.dry_onset", dry_onset, 0.0, 1.0, true, "0 < value <= 1"},
+      {"scene.grain_onset", grain_onset, 0.0, 1.0, true, "0 < value <= 1"},
+      {"scene.dry_pressure", dry_pressure, 0.0, 10.0, false, "0..10"},
+      {"scene.grain_pressure", grain_pressure, 0.0, 10.0, false, "0..10"},
+      {"scene.grain_period_mm", grain_period_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.soak_drain_mm", soak_drain_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.soak_expand", soak_expand, 0.0, 2.0, false, "0..2"},
+      {"scene.soak_shift", soak_shift, 0.0, 1.0, false, "0..1"},
+      {"scene.capillary", capillary, 0.0, 1.0, false, "0..1"}};
+  for (const Range& r : ranges) checks::in_range(r.name, r.v, r.lo, r.hi, r.open_low, r.expected);
+  checks::count_in_range("scene.mesh_rings", mesh_rings, 1, 64);
+  checks::count_in_range("scene.mesh_around", mesh_around, 8, 512);
   if (!std::isfinite(mesh_px) || (mesh_px != 0.0 && (mesh_px < 0.5 || mesh_px > 100.0)))
     throw std::invalid_argument("scene.mesh_px = " + std::to_string(mesh_px) + ": expected 0 or 0.5..100");
   if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
@@ -84,13 +94,14 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   checks::positive("px_per_mm", px_per_mm);
   scene_.validate();
   const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
-  if (w < 1 || h < 1 || w > 32768 || h > 32768)
+  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
     throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
-                                " px: each side must be 1..32768 px");
+                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
   W_ = static_cast<int>(w);
   H_ = static_cast<int>(h);
-  if (tile_px != 0 && (tile_px < 16 || tile_px > 16384))
-    throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or 16..16384");
+  if (tile_px != 0 && (tile_px < kMinTilePx || tile_px > kMaxTilePx))
+    throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or " +
+                                std::to_string(kMinTilePx) + ".." + std::to_string(kMaxTilePx));
 
   ctx_ = RenderContext::acquire();
   ctx_->make_current();
@@ -98,7 +109,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   gl::GetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_rb);
   gl::GetIntegerv(GL_MAX_VIEWPORT_DIMS, max_vp);
   const int limit = std::min({ctx_->info().max_texture_size, static_cast<int>(max_rb), max_vp[0], max_vp[1]});
-  T_ = std::min(tile_px > 0 ? tile_px : 4096, limit);
+  T_ = std::min(tile_px > 0 ? tile_px : kAutoTilePx, limit);
   GLint max_samples = 1;
   gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
   samples_ = std::clamp(static_cast<int>(max_samples), 1, scene_.samples);
@@ -186,9 +197,9 @@ Paper::~Paper() {
 }
 
 void Paper::set_map(const std::string& which, const float* data, int rows, int cols) {
-  if (rows < 2 || cols < 2 || rows > 8192 || cols > 8192)
-    throw std::invalid_argument(which + " map of " + std::to_string(rows) + " x " +
-                                std::to_string(cols) + ": each side must be 2..8192");
+  if (rows < kMinMapPx || cols < kMinMapPx || rows > kMaxMapPx || cols > kMaxMapPx)
+    throw std::invalid_argument(which + " map of " + std::to_string(rows) + " x " + std::to_string(cols) +
+                                ": each side must be " + std::to_string(kMinMapPx) + ".." + std::to_string(kMaxMapPx));
   for (long i = 0; i < static_cast<long>(rows) * cols; ++i)
     if (!std::isfinite(data[i]) || data[i] < 0.0f || data[i] > 1.0f)
       throw std::invalid_argument(which + " map: values must be in 0..1");
@@ -304,14 +315,18 @@ MeshOptions Paper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, ppm_, scene_.mesh_px, scene_.mesh_rings, scene_.mesh_around);
 }
 
-DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
-  ctx_->make_current();
+void Paper::check_deposit(const Brush& brush, const Ink* ink) const {
   const int nodes = brush.model().n_segments + 1;
   if (nodes > kMaxNodes)
     throw std::invalid_argument("the renderer supports at most " + std::to_string(kMaxNodes - 1) + " spine segments");
   if (ink != nullptr) ink->validate(nodes);
   if (scene_.depletion && ink == nullptr)
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
+}
+
+DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
+  ctx_->make_current();
+  check_deposit(brush, ink);
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
   SweepFrame cur = sweep_frame(brush, mesh_options(brush.model()), scene_.soak_expand * excess);
@@ -593,7 +608,7 @@ void image_row(const float* src, T* dst, int n, float top) {
     float p[4];
     for (int c = 0; c < 4; ++c) p[c] = std::clamp(src[c], 0.0f, 1.0f);
     float v[4];
-    for (int c = 0; c < 3; ++c) v[c] = kWhite ? (p[c] - p[3]) + 1.0f : (p[3] > 1e-6f ? p[c] / p[3] : 0.0f);
+    for (int c = 0; c < 3; ++c) v[c] = kWhite ? (p[c] - p[3]) + 1.0f : (p[3] > kMinAlpha ? p[c] / p[3] : 0.0f);
     v[3] = p[3];
     for (int c = 0; c < C; ++c) {
       // (the product is rounded to float first, as numpy does, then to an integer)

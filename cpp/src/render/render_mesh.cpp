@@ -9,6 +9,11 @@ namespace brushwork {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+constexpr float kMinNormal = 1e-20f;  // mm^2: a summed normal this short has no direction (up is used)
+constexpr int kPressureSamples = 32;  // points around a section where its lowest point is looked for
+constexpr double kMinMinorRadius = 1e-3;  // mm: the least minor radius c a node's pressure is taken over
+
 // The render layout's uv and faces depend on the ring count, the vertices around and the winding
 // alone, not on the rest of the pose: the footprint pass builds a mesh every frame, so they are
 // made once per (rings, around, winding) and copied (re-indexing the faces took about half of a
@@ -21,28 +26,31 @@ struct Topology {
   std::vector<std::uint32_t> faces;  // (F, 3)
 };
 
-const Topology& topology(const SurfaceMesh& m, int NR, int A) {
-  static thread_local Topology t;
-  const std::array<int, 3> first{{m.faces(0, 0), m.faces(0, 1), m.faces(0, 2)}};
-  if (t.NR == NR && t.A == A && t.first == first && t.faces.size() == 3 * static_cast<std::size_t>(m.faces.rows()))
-    return t;
+// (NR * (A + 1) + 2, 2) uv: rings along the spine (0 .. 1), columns around (0 .. 1, the first
+// repeated at 1), then the root cap (0, 0.5) and the tip apex (1, 0.5)
+void ring_uv(int NR, int A, std::vector<float>& uv) {
   const int cols = A + 1;
-  const int root_cap = NR * A, apex = NR * A + 1;
-  const int R_root = NR * cols, R_apex = NR * cols + 1;  // their render indices
-  t.NR = NR, t.A = A, t.first = first;
-  t.uv.assign(2 * static_cast<std::size_t>(NR * cols + 2), 0.0f);
+  const int R_root = NR * cols, R_apex = NR * cols + 1;
+  uv.assign(2 * static_cast<std::size_t>(NR * cols + 2), 0.0f);
   for (int j = 0; j < NR; ++j) {
     const double along = NR > 1 ? static_cast<double>(j) / (NR - 1) : 0.0;
     for (int k = 0; k <= A; ++k) {
-      t.uv[2 * (j * cols + k)] = static_cast<float>(along);
-      t.uv[2 * (j * cols + k) + 1] = static_cast<float>(k) / A;
+      uv[2 * (j * cols + k)] = static_cast<float>(along);
+      uv[2 * (j * cols + k) + 1] = static_cast<float>(k) / A;
     }
   }
-  t.uv[2 * R_root] = 0.0f, t.uv[2 * R_root + 1] = 0.5f;
-  t.uv[2 * R_apex] = 1.0f, t.uv[2 * R_apex + 1] = 0.5f;
-  // faces: re-index; a triangle spanning the seam (columns A-1 and 0) uses the repeated column
-  t.faces.clear();
-  t.faces.reserve(3 * m.faces.rows());
+  uv[2 * R_root] = 0.0f, uv[2 * R_root + 1] = 0.5f;
+  uv[2 * R_apex] = 1.0f, uv[2 * R_apex + 1] = 0.5f;
+}
+
+// the core's faces re-indexed; a triangle spanning the seam (columns A-1 and 0) uses the
+// repeated column
+void reindex_faces(const SurfaceMesh& m, int NR, int A, std::vector<std::uint32_t>& faces) {
+  const int cols = A + 1;
+  const int root_cap = NR * A, apex = NR * A + 1;
+  const int R_root = NR * cols, R_apex = NR * cols + 1;  // their render indices
+  faces.clear();
+  faces.reserve(3 * m.faces.rows());
   for (int f = 0; f < m.faces.rows(); ++f) {
     int idx[3];
     bool has_last = false;
@@ -52,16 +60,21 @@ const Topology& topology(const SurfaceMesh& m, int NR, int A) {
     }
     for (int e = 0; e < 3; ++e) {
       const int v = idx[e];
-      std::uint32_t out;
-      if (v == root_cap) out = R_root;
-      else if (v == apex) out = R_apex;
-      else {
-        const int j = v / A, k = v % A;
-        out = static_cast<std::uint32_t>(j * cols + ((k == 0 && has_last) ? A : k));
-      }
-      t.faces.push_back(out);
+      if (v == root_cap) faces.push_back(R_root);
+      else if (v == apex) faces.push_back(R_apex);
+      else faces.push_back(static_cast<std::uint32_t>(v / A * cols + ((v % A == 0 && has_last) ? A : v % A)));
     }
   }
+}
+
+const Topology& topology(const SurfaceMesh& m, int NR, int A) {
+  static thread_local Topology t;
+  const std::array<int, 3> first{{m.faces(0, 0), m.faces(0, 1), m.faces(0, 2)}};
+  if (t.NR == NR && t.A == A && t.first == first && t.faces.size() == 3 * static_cast<std::size_t>(m.faces.rows()))
+    return t;
+  t.NR = NR, t.A = A, t.first = first;
+  ring_uv(NR, A, t.uv);
+  reindex_faces(m, NR, A, t.faces);
   return t;
 }
 
@@ -125,7 +138,7 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
   for (int v = 0; v < RV; ++v) {
     Eigen::Map<Eigen::Vector3f> nv(&r.normal[3 * v]);
     const float len = nv.norm();
-    if (len > 1e-20f) nv /= len;
+    if (len > kMinNormal) nv /= len;
     else nv = Eigen::Vector3f::UnitZ();
   }
   return r;
@@ -134,19 +147,18 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
 std::vector<float> node_pressure(const Brush& brush) {
   const auto secs = brush.sections();
   std::vector<float> p(secs.size(), 0.0f);
-  constexpr int kSamples = 32;
   for (std::size_t i = 0; i < secs.size(); ++i) {
     const Section& s = secs[i];
     // lowest point of the two half ellipses, sampled around
     double zmin = s.center.z();
-    for (int k = 0; k < kSamples; ++k) {
-      const double t = 2.0 * 3.14159265358979323846 * k / kSamples;
+    for (int k = 0; k < kPressureSamples; ++k) {
+      const double t = 2.0 * kPi * k / kPressureSamples;
       const double ct = std::cos(t), st = std::sin(t);
       const double z = s.center.z() + (ct >= 0 ? s.a_plus : s.a_minus) * ct * s.u.z() +
                        s.c * st * s.w.z();
       zmin = std::min(zmin, z);
     }
-    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, 1e-3), 0.0, 1.0));
+    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, kMinMinorRadius), 0.0, 1.0));
   }
   return p;
 }
