@@ -620,36 +620,3 @@ def test_brush_view_modes_show_the_brush_and_its_shadow():
     assert not np.array_equal(no_brush, images["shaded"])
     with pytest.raises(ValueError, match="mode"):
         view.render(brush, paper, mode="wireframe")
-
-
-def test_the_sweep_plan_is_decided_on_the_cpu():
-    """_core.sweep_plan is the deposit's plan without drawing it (no GL context is needed): what
-    is touched, how many blends between two frames, and the pixel rectangle they cover."""
-    from brushwork import _core
-
-    model = bw.BrushModel.preset("small")
-    L = model.tuft_length
-
-    def pressed_at(x_mm: float) -> bw.Brush:
-        brush = bw.Brush(model)
-        for k in range(10):
-            brush.step(bw.Pose(position=(x_mm, 20.0, L * (1 - 0.25 * min(1.0, (k + 1) / 5))), tilt_deg=0.0))
-        return brush
-
-    air = _core.sweep_plan(bw.Brush(model), None, 10.0, 500, 400)
-    assert not air["contact"] and not air["draws"] and air["rect"] == [0, 0, 0, 0]
-
-    start = pressed_at(20.0)
-    first = _core.sweep_plan(start, None, 10.0, 500, 400)
-    assert first["contact"] and first["new_stroke"] and first["draws"]
-    x0, y0, x1, y1 = first["rect"]
-    for loop in start.footprint():                         # (k, 2) mm -> px, y up
-        assert x0 <= loop[:, 0].min() * 10 and loop[:, 0].max() * 10 <= x1
-        assert y0 <= loop[:, 1].min() * 10 and loop[:, 1].max() * 10 <= y1
-
-    near = _core.sweep_plan(pressed_at(21.0), start, 10.0, 500, 400)
-    far = _core.sweep_plan(pressed_at(40.0), start, 10.0, 500, 400)
-    assert not near["new_stroke"] and not far["new_stroke"]
-    assert 1 < near["blends"] < far["blends"], "blends are spaced along the move"
-    assert far["rect"][2] - far["rect"][0] >= (first["rect"][2] - first["rect"][0]) + 190, \
-        "the rectangle spans the 20 mm move (200 px)"
