@@ -621,11 +621,10 @@ def _trace_exit(style, size=512):
 
 def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     """出锋 (kai's taper_from): past taper_from of the median the press only eases, and the
-    footprint never swells again before the lift (no bead); the exit lifts in place. The same
-    stroke without the rule (the driver before session 12) ends in a bead. (At 512 px, as
-    `bench glyphs` writes: the ink's depletion, counted in pixels, feeds the brush's wetness
-    and so its adhesion; at 128 px this stroke's belly comes down again during the lift, one
-    of the 4 in 101 撇 of the first 80 development characters that keep a bead.)"""
+    footprint never swells again ahead of the lift (no bead); the exit lifts in place. The same
+    stroke with taper_from off ends in a bead. (At 512 px, as `bench glyphs` writes: the ink's
+    depletion, counted in pixels, feeds the brush's wetness and so its adhesion; at 128 px this
+    stroke's belly comes down again during the lift.)"""
     kai = Style.load("kai")
     assert kai.taper_from is not None
     rows, exit_at = _trace_exit(kai)
