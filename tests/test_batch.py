@@ -13,7 +13,7 @@ import pytest
 
 from brushwork import batch, cli
 from brushwork.bench import glyphs as bench_glyphs
-from brushwork.glyphs import GlyphError, load_source
+from brushwork.glyphs import load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
 from brushwork.recorded import root_height
@@ -107,7 +107,7 @@ def test_the_style_table_documents_and_validates_the_same_fields(capsys):
 
     table = style_table().splitlines()
     assert table[0] == "| field | unit | range | default | meaning |"
-    assert [row.split("|")[1].strip() for row in table[2:]] == [f.name for f in FIELDS]
+    assert [row.split("|")[1].strip() for row in table[2:]] == [f"`{f.name}`" for f in FIELDS]
     assert {f.name for f in FIELDS} == set(Style.__dataclass_fields__)
     for name in Style.names():              # the shipped styles pass their own table
         Style.load(name)
@@ -406,21 +406,6 @@ def test_contact_sheet_with_and_without_a_reference_font(tmp_path):
     assert ref.shape == (64, 64) and ref.max() > 200 and (ref > 128).mean() > 0.02
 
 
-def test_default_source_bundled_then_kanjivg(monkeypatch):
-    g = load_source("default", "永")["永"]
-    assert g.source.startswith("glyphs:")
-    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
-    with pytest.raises(GlyphError, match="brushwork\\[kanjivg\\]"):
-        load_source("default", "鬱")
-    # with KanjiVG there (a stand-in folder), a character in neither place is one error of the
-    # default source that says where it looked
-    monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: True)
-    monkeypatch.setattr(glyph_sources.kanjivg, "package_dir", lambda: DATA / "kanjivg")
-    errors: list = []
-    assert set(load_source("default", "永鬱", errors=errors)) == {"永"}
-    assert [str(e) for e in errors] == ["default: no glyph for '鬱' (U+9B31) among the bundled glyphs or in KanjiVG"]
-
-
 def test_batch_stopped_by_sigterm_keeps_whole_files_and_resumes(tmp_path):
     import signal
     import subprocess
@@ -656,3 +641,16 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     assert rows[-1][0] == -kai.hover
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
     assert beaded([r[1] for r in rows_off])
+
+
+def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):
+    """`brushwork params --style | head -1`: the reader has left; no error line, exit 0."""
+    import sys
+
+    read_end, write_end = os.pipe()
+    os.close(read_end)                                   # the reader is gone before we write
+    with open(write_end, "w", buffering=1, encoding="utf-8") as closed_pipe:
+        monkeypatch.setattr(sys, "stdout", closed_pipe)
+        code = cli.main(["params", "--style"])
+        monkeypatch.undo()
+    assert code == 0 and capsys.readouterr().err == ""

@@ -1,4 +1,6 @@
 """The brush's behaviour as the seed paper and a user describe it (seed Figures 1, 5, 11)."""
+import math
+
 import numpy as np
 import pytest
 
@@ -157,14 +159,14 @@ def test_deterministic_bit_for_bit():
 def test_bad_pose_in_step_keeps_the_previous_state():
     b = bw.Brush("medium")
     replay(b, pressed_drag(b.model, frames=30))
-    before = b.full_state().copy()
+    kept = b.full_state().copy()
     with pytest.raises(ValueError, match="tilt_deg"):
         bw.Pose((0, 0, 10), tilt_deg=float("nan"))
     with pytest.raises(ValueError, match="wetness"):
         b.wetness = np.full(b.model.n_segments + 1, 2.0)
     with pytest.raises(ValueError, match="expected"):
         b.set_variables(np.zeros(3))
-    assert np.array_equal(before, b.full_state())
+    assert np.array_equal(kept, b.full_state())
 
 
 def test_surface_mesh_and_footprint_shapes():
@@ -277,3 +279,46 @@ def test_a_spread_section_rests_on_the_paper():
             assert sec[i, 2] >= -1e-9, (i, sec[i, 2])                            # centre not below it
         widths.append(bw._core.footprint_span(b.footprint(), 0.0)[1])   # width across the drag (+x)
     assert widths[1] > 1.1 * widths[0], widths
+
+
+def _trace(brush, poses):
+    """Step through `poses`: per frame the skeleton, footprint and the stats that must repeat."""
+    out = []
+    for p in poses:
+        s = brush.step(p)
+        loops = [loop.tobytes() for loop in brush.footprint()]
+        out.append((brush.skeleton().tobytes(), loops, s.iterations, s.energy, s.kkt_residual, s.substeps))
+    return out
+
+
+def test_a_restored_state_replays_the_same_frames_bit_for_bit():
+    b = bw.Brush("medium")
+    m = b.model
+    lead = pressed_drag(m, frames=40, press=0.2, tilt_deg=25.0, azimuth_deg=20.0)
+    replay(b, lead[:20])
+    saved = b.state()
+    # a pressed, moving, tilted path: the rest of the press, then a drag that rocks and turns
+    # the handle
+    drag = pressed_drag(m, frames=80, press=0.2, tilt_deg=25.0, azimuth_deg=20.0)[20:]
+    path = lead[20:] + [bw.Pose(p.position, 25.0 + 5.0 * math.sin(k / 8.0), 20.0 + 2.0 * k)
+                        for k, p in enumerate(drag)]
+    assert len(path) == 80
+    first = _trace(b, path)
+    assert sum(len(f[1]) > 0 for f in first) > len(path) // 2, "the path presses the brush"
+    b.set_state(saved)
+    assert _trace(b, path) == first
+    # the state is a value: stepping the brush leaves a taken copy alone
+    copy = saved.copy()
+    assert np.array_equal(copy.full_state, saved.full_state)
+
+
+def test_set_state_refuses_a_state_of_another_shape():
+    b = bw.Brush("medium")
+    other = brush_with("medium", n_segments=b.model.n_segments + 1)
+    with pytest.raises(ValueError, match="segments"):
+        b.set_state(other.state())
+    flat = brush_with("medium", lateral_spreading=False)
+    with pytest.raises(ValueError, match="active variables"):
+        b.set_state(flat.state())
+    with pytest.raises(TypeError):
+        b.set_state("not a state")

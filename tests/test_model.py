@@ -50,10 +50,10 @@ def test_every_parameter_documented_with_unit_and_range():
 ])
 def test_out_of_range_field_raises_value_error_naming_it(field, value):
     m = bw.BrushModel.preset("medium")
-    before = getattr(m, field)
+    kept = getattr(m, field)
     with pytest.raises(ValueError, match=field):
         setattr(m, field, value)
-    assert getattr(m, field) == before, "a rejected value must leave the model unchanged"
+    assert getattr(m, field) == kept, "a rejected value must leave the model unchanged"
 
 
 def test_replace_changes_a_copy_and_checks_every_field():

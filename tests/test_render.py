@@ -232,8 +232,8 @@ def test_straight_strokes_stay_connected_at_any_drag_speed(radii_per_frame):
 
 def test_the_parts_are_slid_only_where_the_blend_breaks():
     # a steady drag at 3 belly radii a frame: the blended surface stays pressed and as wide all
-    # the way, so the blends alone leave the band (before, 51 of its 59 deposits also slid both
-    # parts, ~40 copies each, because the footprint moved more than half its width a frame)
+    # the way, so the blends alone leave the band, although the footprint moves more than half
+    # its width a frame
     model = bw.BrushModel.preset("small")
     L = model.tuft_length
     paper = bw.Paper(400, 40, 10)
@@ -307,12 +307,12 @@ def test_depletion_conserves_ink():
     model = bw.BrushModel.preset("small")
     brush = bw.Brush(model)
     ink = brush.load_ink(total_mm2=150.0)
-    before = ink.total()
+    loaded = ink.total()
     paper = bw.Paper(120, 30, 10, scene=bw.Scene(depletion=True))
     stats = draw(paper, brush, straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3))
-    lost = before - ink.total()
+    lost = loaded - ink.total()
     on_paper = float(paper.ink().sum()) / paper.px_per_mm ** 2
-    assert lost > 0.2 * before, "the stroke should use a good part of the ink"
+    assert lost > 0.2 * loaded, "the stroke should use a good part of the ink"
     assert abs(on_paper - lost) <= INK_CONSERVATION_REL * lost, f"paper {on_paper:.3f} vs lost {lost:.3f} mm^2"
     assert abs(ink.deposited - lost) <= INK_CONSERVATION_REL * lost
     assert sum(s.deposited for s in stats) == pytest.approx(ink.deposited)
@@ -578,3 +578,36 @@ def test_brush_view_modes_show_the_brush_and_its_shadow():
     assert not np.array_equal(no_brush, images["shaded"])
     with pytest.raises(ValueError, match="mode"):
         view.render(brush, paper, mode="wireframe")
+
+
+def test_the_sweep_plan_is_decided_on_the_cpu():
+    """_core.sweep_plan is the deposit's plan without drawing it (no GL context is needed): what
+    is touched, how many blends between two frames, and the pixel rectangle they cover."""
+    from brushwork import _core
+
+    model = bw.BrushModel.preset("small")
+    L = model.tuft_length
+
+    def pressed_at(x_mm: float) -> bw.Brush:
+        brush = bw.Brush(model)
+        for k in range(10):
+            brush.step(bw.Pose(position=(x_mm, 20.0, L * (1 - 0.25 * min(1.0, (k + 1) / 5))), tilt_deg=0.0))
+        return brush
+
+    air = _core.sweep_plan(bw.Brush(model), None, 10.0, 500, 400)
+    assert not air["contact"] and not air["draws"] and air["rect"] == [0, 0, 0, 0]
+
+    start = pressed_at(20.0)
+    first = _core.sweep_plan(start, None, 10.0, 500, 400)
+    assert first["contact"] and first["new_stroke"] and first["draws"]
+    x0, y0, x1, y1 = first["rect"]
+    for loop in start.footprint():                         # (k, 2) mm -> px, y up
+        assert x0 <= loop[:, 0].min() * 10 and loop[:, 0].max() * 10 <= x1
+        assert y0 <= loop[:, 1].min() * 10 and loop[:, 1].max() * 10 <= y1
+
+    near = _core.sweep_plan(pressed_at(21.0), start, 10.0, 500, 400)
+    far = _core.sweep_plan(pressed_at(40.0), start, 10.0, 500, 400)
+    assert not near["new_stroke"] and not far["new_stroke"]
+    assert 1 < near["blends"] < far["blends"], "blends are spaced along the move"
+    assert far["rect"][2] - far["rect"][0] >= (first["rect"][2] - first["rect"][0]) + 190, \
+        "the rectangle spans the 20 mm move (200 px)"

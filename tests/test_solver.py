@@ -46,8 +46,8 @@ def test_no_accepted_step_raises_the_merit_and_converged_frames_meet_tolerance()
     b = bw.Brush(m)
     steps = converged = 0
     for s in replay(b, press_drag_turn_lift(m, 320)):
-        for before, after in zip(s.merit_before, s.merit_after):
-            assert after <= before + MERIT_SLACK * max(1.0, abs(before)), (before, after)
+        for merit0, merit1 in zip(s.merit_before, s.merit_after):
+            assert merit1 <= merit0 + MERIT_SLACK * max(1.0, abs(merit0)), (merit0, merit1)
             steps += 1
         if s.converged:
             converged += 1

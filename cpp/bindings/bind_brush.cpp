@@ -11,7 +11,9 @@
 namespace py = pybind11;
 using namespace brushwork;
 
-void bind_brush(py::module_& m) {
+namespace {
+
+void bind_pose(py::module_& m) {
   py::class_<Pose>(m, "Pose", R"doc(
 Where the hand holds the brush. position: the tuft root (x, y, z) in mm, z its height above the
 paper (lowering z below the tuft length presses the brush); tilt_deg: handle against the paper's
@@ -39,7 +41,9 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
           << ", twist_deg=" << p.twist_deg << ")";
         return o.str();
       });
+}
 
+void bind_stats(py::module_& m) {
   py::class_<StepStats>(m, "StepStats", "Statistics of one Brush.step().")
       .def_readonly("iterations", &StepStats::iterations, "SQP iterations this frame")
       .def_readonly("energy", &StepStats::energy, "incremental potential at the end, N*mm")
@@ -70,7 +74,29 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
           << "', time=" << s.time << ")";
         return o.str();
       });
+}
 
+void bind_state(py::module_& m) {
+  py::class_<BrushState>(m, "BrushState", R"doc(
+Everything that changes as a brush moves (degrees of freedom, last frame's values, plastic rest
+angles, multipliers, the carried BFGS matrix, the contact set, the pore plane, the pose, the
+wetness, the last step's statistics), as one opaque value.  Brush.state() returns a copy;
+Brush.set_state(state) puts it back, and the brush then moves on bit for bit as it did from
+that moment.)doc")
+      .def("copy", [](const BrushState& s) { return BrushState(s); }, "an independent copy")
+      .def("__copy__", [](const BrushState& s) { return BrushState(s); })
+      .def("__deepcopy__", [](const BrushState& s, py::dict) { return BrushState(s); }, py::arg("memo"))
+      .def_property_readonly("n_segments", [](const BrushState& s) { return s.x.size() / 5; })
+      .def_property_readonly("full_state", [](const BrushState& s) { return Eigen::VectorXd(s.x); },
+                             "(5n,) all variables, as Brush.full_state()")
+      .def("__repr__", [](const BrushState& s) {
+        std::ostringstream o;
+        o << "BrushState(n_segments=" << s.x.size() / 5 << ", contacts=" << s.contacts << ")";
+        return o.str();
+      });
+}
+
+void bind_mesh_options(py::module_& m) {
   py::class_<MeshOptions>(m, "MeshOptions")
       .def(py::init([](int rings, int around) {
              MeshOptions o;
@@ -81,39 +107,34 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
            py::arg("rings_per_segment") = 8, py::arg("around") = 32)
       .def_readonly("rings_per_segment", &MeshOptions::rings_per_segment)
       .def_readonly("around", &MeshOptions::around);
+}
 
-  py::class_<Brush>(m, "Brush")
-      .def(py::init<const BrushModel&>(), py::arg("model"))
-      .def("copy_state_from", [](Brush& self, const Brush& other) { self = other; }, py::arg("other"),
-           "become an exact copy of `other`: model, state, plasticity, carried Hessian, statistics")
-      .def_property_readonly("model", &Brush::model, py::return_value_policy::copy)
-      .def("step", &Brush::step, py::arg("pose"), py::call_guard<py::gil_scoped_release>())
-      .def("reset", &Brush::reset)
-      .def_property_readonly("last_stats", &Brush::last_stats, py::return_value_policy::copy)
-      .def("skeleton", &Brush::skeleton)
-      .def("lateral_nodes", &Brush::lateral_nodes)
-      .def("section_heights", &Brush::section_heights)
-      .def("sections_array",
-           [](const Brush& b) {
-             // (n+1, 15): center(3) u(3) w(3) n(3) a_plus a_minus c
-             const auto secs = b.sections();
-             Eigen::Matrix<double, Eigen::Dynamic, 15, Eigen::RowMajor> a(secs.size(), 15);
-             for (size_t i = 0; i < secs.size(); ++i) {
-               const auto& s = secs[i];
-               a.row(i) << s.center.transpose(), s.u.transpose(), s.w.transpose(), s.n.transpose(),
-                   s.a_plus, s.a_minus, s.c;
-             }
-             return a;
-           })
-      .def("surface_mesh",
-           [](const Brush& b, const MeshOptions& o) {
-             SurfaceMesh s = b.surface_mesh(o);
-             return py::make_tuple(s.vertices, s.faces, s.uv);
-           },
-           py::arg("options") = MeshOptions())
-      .def("footprint", &Brush::footprint, py::arg("options") = MeshOptions())
-      .def("footprint_area", &Brush::footprint_area, py::arg("options") = MeshOptions())
-      .def("prepare", &Brush::prepare, py::arg("pose"))
+void set_wetness(Brush& b, const Eigen::VectorXd& w) {
+  if (w.size() != b.wetness().size())
+    throw std::invalid_argument("wetness: expected " + std::to_string(b.wetness().size()) +
+                                " values (one per spine node), got " + std::to_string(w.size()));
+  for (int i = 0; i < w.size(); ++i)
+    if (!std::isfinite(w[i]) || w[i] < 0.0 || w[i] > 1.0)
+      throw std::invalid_argument("wetness[" + std::to_string(i) + "] = " + std::to_string(w[i]) +
+                                  " is outside [0, 1]");
+  b.wetness() = w;
+}
+
+// (n+1, 15): center(3) u(3) w(3) n(3) a_plus a_minus c
+Eigen::Matrix<double, Eigen::Dynamic, 15, Eigen::RowMajor> sections_array(const Brush& b) {
+  const auto secs = b.sections();
+  Eigen::Matrix<double, Eigen::Dynamic, 15, Eigen::RowMajor> a(secs.size(), 15);
+  for (size_t i = 0; i < secs.size(); ++i) {
+    const auto& s = secs[i];
+    a.row(i) << s.center.transpose(), s.u.transpose(), s.w.transpose(), s.n.transpose(), s.a_plus,
+        s.a_minus, s.c;
+  }
+  return a;
+}
+
+// the frame problem, for tests and other solvers
+void bind_frame_problem(py::class_<Brush>& c) {
+  c.def("prepare", &Brush::prepare, py::arg("pose"))
       .def_property_readonly("num_variables", &Brush::num_variables)
       .def_property_readonly("num_constraints", &Brush::num_constraints)
       .def("variables", &Brush::variables)
@@ -124,18 +145,44 @@ rotation of the handle about its own axis. Non-finite or out-of-range values rai
       .def("constraints", &Brush::constraints, py::arg("z"))
       .def("constraint_jacobian", &Brush::constraint_jacobian, py::arg("z"))
       .def("full_state", &Brush::full_state)
-      .def("multipliers", &Brush::multipliers)
+      .def("multipliers", &Brush::multipliers);
+}
+
+void bind_brush_class(py::module_& m) {
+  py::class_<Brush> c(m, "Brush");
+  c.def(py::init<const BrushModel&>(), py::arg("model"))
+      .def("copy_state_from", [](Brush& self, const Brush& other) { self = other; }, py::arg("other"),
+           "become an exact copy of `other`: model, state, plasticity, carried Hessian, statistics")
+      .def_property_readonly("model", &Brush::model, py::return_value_policy::copy)
+      .def("step", &Brush::step, py::arg("pose"), py::call_guard<py::gil_scoped_release>())
+      .def("reset", &Brush::reset)
+      .def_property_readonly("last_stats", &Brush::last_stats, py::return_value_policy::copy)
+      .def("skeleton", &Brush::skeleton)
+      .def("lateral_nodes", &Brush::lateral_nodes)
+      .def("section_heights", &Brush::section_heights)
+      .def("sections_array", &sections_array)
+      .def("surface_mesh",
+           [](const Brush& b, const MeshOptions& o) {
+             SurfaceMesh s = b.surface_mesh(o);
+             return py::make_tuple(s.vertices, s.faces, s.uv);
+           },
+           py::arg("options") = MeshOptions())
+      .def("footprint", &Brush::footprint, py::arg("options") = MeshOptions())
+      .def("footprint_area", &Brush::footprint_area, py::arg("options") = MeshOptions())
+      .def("state", &Brush::state, "a copy of the whole mutable state (BrushState)")
+      .def("set_state", &Brush::set_state, py::arg("state"),
+           "put back a state from state(); ValueError if it belongs to a brush of another shape")
       .def_property(
-          "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness); },
-          [](Brush& b, const Eigen::VectorXd& w) {
-            if (w.size() != b.wetness.size())
-              throw std::invalid_argument("wetness: expected " + std::to_string(b.wetness.size()) +
-                                          " values (one per spine node), got " +
-                                          std::to_string(w.size()));
-            for (int i = 0; i < w.size(); ++i)
-              if (!std::isfinite(w[i]) || w[i] < 0.0 || w[i] > 1.0)
-                throw std::invalid_argument("wetness[" + std::to_string(i) + "] = " +
-                                            std::to_string(w[i]) + " is outside [0, 1]");
-            b.wetness = w;
-          });
+          "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness()); }, &set_wetness);
+  bind_frame_problem(c);
+}
+
+}  // namespace
+
+void bind_brush(py::module_& m) {
+  bind_pose(m);
+  bind_stats(m);
+  bind_state(m);
+  bind_mesh_options(m);
+  bind_brush_class(m);
 }

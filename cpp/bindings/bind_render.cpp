@@ -27,6 +27,34 @@ py::dict info_dict(const RenderInfo& i) {
 
 using FloatImage = py::array_t<float, py::array::c_style | py::array::forcecast>;
 
+// the sweep plan from `last` (None: a stroke starts) to `brush` on a paper of width_px x
+// height_px at px_per_mm, as Paper.deposit would draw it with `scene`'s mesh and soaked tip
+py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm, int width_px, int height_px,
+                         const SceneFeatures& scene, double excess) {
+  scene.validate();
+  const MeshOptions opt =
+      mesh_options_for(brush.model(), px_per_mm, scene.mesh_px, scene.mesh_rings, scene.mesh_around);
+  const double soak = scene.soaked_tip ? scene.soak_expand * excess : 0.0;
+  const SweepFrame cur = sweep_frame(brush, opt, soak);
+  SweepFrame from;
+  if (last != nullptr) from = sweep_frame(*last, opt, soak);
+  if (last != nullptr && from.position.size() != cur.position.size())
+    throw std::invalid_argument("sweep_plan: the two brushes must be of one model");
+  const SweepPlan plan = plan_sweep(last != nullptr ? &from : nullptr, cur, px_per_mm, width_px, height_px);
+  py::dict d;
+  d["contact"] = plan.contact;
+  d["new_stroke"] = plan.contact && !plan.continues;
+  d["blends"] = plan.blends;
+  d["slides"] = py::make_tuple(plan.slides_prev, plan.slides_cur);
+  d["near_faces"] = plan.near / 3;
+  d["faces"] = plan.all / 3;
+  d["shift_mm"] = py::make_tuple(plan.shift_x, plan.shift_y);
+  d["travel_mm"] = plan.travel;
+  d["rect"] = plan.rect;
+  d["draws"] = plan.draws();
+  return d;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -100,11 +128,24 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
                ", deposited=" + std::to_string(s.deposited) + ")";
       });
 
+  m.def("sweep_plan", &sweep_plan_dict, py::arg("brush"), py::arg("last") = nullptr, py::arg("px_per_mm") = 10.0,
+        py::arg("width_px") = 1024, py::arg("height_px") = 1024, py::arg("scene") = SceneFeatures(),
+        py::arg("excess") = 0.0, R"doc(
+The footprint pass's plan from `last` (a brush at the last deposit; None: a stroke starts) to
+`brush`, without drawing: dict of contact, new_stroke, blends (sub-steps K), slides (copies of the
+last and this part), near_faces and faces (triangles drawn by the blends before t = 1 and at
+t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws.)doc");
+
   py::class_<Paper>(m, "Paper")
       .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),
            py::arg("height_mm"), py::arg("px_per_mm"), py::arg("scene") = SceneFeatures(),
            py::arg("tile_px") = 0, py::keep_alive<1, 5>())
-      .def("deposit", &Paper::deposit, py::arg("brush"), py::arg("ink") = nullptr)
+      .def("deposit", [](Paper& p, Brush& brush, Ink* ink) {
+        // draw, then spend the brush's ink by what was drawn
+        const DepositStats stats = p.deposit(brush, ink);
+        if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
+        return stats;
+      }, py::arg("brush"), py::arg("ink") = nullptr)
       .def("end_stroke", &Paper::end_stroke)
       .def("undo", &Paper::undo)
       .def("clear", &Paper::clear)

@@ -73,9 +73,26 @@ inline std::uint64_t edge_key(int i, int j) {
 
 }  // namespace
 
-SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOptions& opt) {
-  // validate the options and the sections Omega_i
-  const std::size_t S = sections.size();
+namespace {
+
+// -, ring vectors shorter than this count as zero (spine tangents, major axes)
+constexpr double kZeroLength = 1e-14;
+constexpr double kDegenerateAxis = 1e-9;  // -, a major axis this short after Gram-Schmidt is lost
+constexpr long long kMaxMeshVertices = 100000000LL;
+// mm^2, consecutive footprint points closer than this (squared) are one point
+constexpr double kSamePoint2 = 1e-24;
+// mm, start of running minima and maxima (beyond any coordinate on the paper)
+constexpr double kFar = 1e300;
+// mm^2, a footprint whose |area| is below this is no footprint
+constexpr double kMinFootprintArea = 1e-9;
+
+// the sections' fields, checked: centres C, unit axes U, W, N, radii a+ (AP), a- (AM), c (CC)
+struct SweepInput {
+  std::vector<Vec3> C, U, W, N, D;  // D: unit Catmull-Rom tangent directions at the centres
+  std::vector<double> AP, AM, CC;
+};
+
+void check_options(std::size_t S, const MeshOptions& opt) {
   if (S < 2) {
     std::ostringstream os;
     os << "sweep_surface: need at least 2 sections, got " << S;
@@ -83,118 +100,108 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   }
   if (opt.rings_per_segment < 1) throw std::invalid_argument("sweep_surface: rings_per_segment must be >= 1");
   if (opt.around < 8) throw std::invalid_argument("sweep_surface: around must be >= 8");
-  const int R = opt.rings_per_segment;
-  const int A = opt.around;
-  const long long rings_ll = static_cast<long long>(S - 1) * R + 1;
-  if (rings_ll * A + 2 > 100000000LL) throw std::invalid_argument("sweep_surface: mesh too large");
-  const int NR = static_cast<int>(rings_ll);
+  const long long rings_ll = static_cast<long long>(S - 1) * opt.rings_per_segment + 1;
+  if (rings_ll * opt.around + 2 > kMaxMeshVertices) throw std::invalid_argument("sweep_surface: mesh too large");
+}
 
-  std::vector<Vec3> C(S), U(S), W(S), N(S);
-  std::vector<double> AP(S), AM(S), CC(S);
+SweepInput checked_sections(const std::vector<Section>& sections) {
+  const std::size_t S = sections.size();
+  SweepInput in;
+  for (auto* v : {&in.C, &in.U, &in.W, &in.N, &in.D}) v->resize(S);
+  for (auto* v : {&in.AP, &in.AM, &in.CC}) v->resize(S);
   for (std::size_t i = 0; i < S; ++i) {
     const Section& sec = sections[i];
     if (!sec.center.allFinite()) bad_section(i, "center", "is not finite");
-    C[i] = sec.center;
-    U[i] = checked_direction(sec.u, i, "u");
-    W[i] = checked_direction(sec.w, i, "w");
-    N[i] = checked_direction(sec.n, i, "n");
-    AP[i] = checked_radius(sec.a_plus, i, "a_plus");
-    AM[i] = checked_radius(sec.a_minus, i, "a_minus");
-    CC[i] = checked_radius(sec.c, i, "c");
+    in.C[i] = sec.center;
+    in.U[i] = checked_direction(sec.u, i, "u");
+    in.W[i] = checked_direction(sec.w, i, "w");
+    in.N[i] = checked_direction(sec.n, i, "n");
+    in.AP[i] = checked_radius(sec.a_plus, i, "a_plus");
+    in.AM[i] = checked_radius(sec.a_minus, i, "a_minus");
+    in.CC[i] = checked_radius(sec.c, i, "c");
   }
-
   // unit Catmull-Rom tangent directions at the centres O_i (one-sided at the two ends);
   // zero where neighbouring centres coincide
-  std::vector<Vec3> D(S);
+  const auto& C = in.C;
   for (std::size_t i = 0; i < S; ++i) {
     const Vec3 m = (i == 0) ? Vec3(C[1] - C[0])
                    : (i == S - 1) ? Vec3(C[S - 1] - C[S - 2])
                                   : Vec3(0.5 * (C[i + 1] - C[i - 1]));
     const double len = m.norm();
-    D[i] = len > 1e-14 ? Vec3(m / len) : Vec3::Zero();
+    in.D[i] = len > kZeroLength ? Vec3(m / len) : Vec3::Zero();
   }
+  return in;
+}
 
-  // cos / sin table for t_k = 2 pi k / around
-  std::vector<double> ct(A), st(A);
+// one ring of the sweep: its centre P, axes u (major) and w (minor), radii ap, am, cr
+struct Ring {
+  Vec3 P, u, w;
+  double ap, am, cr;
+};
+
+// the ring at fraction s between sections i0 and i0 + 1: Hermite centre, linear radii, blended
+// and re-orthogonalised frame.  prev_u: the last ring's major axis; handed: the sign of w
+// relative to T x u, fixed on the first ring (0 until then)
+Ring sweep_ring(const SweepInput& in, int i0, double s, bool first, Vec3& prev_u, double& handed) {
+  const int i1 = i0 + 1;
+  const auto& C = in.C;
+  Ring ring;
+  // cubic Hermite through O_i0, O_i1 with tangents scaled by the chord length
+  const double L = (C[i1] - C[i0]).norm();
+  const Vec3 m0 = in.D[i0] * L, m1 = in.D[i1] * L;
+  const double s2 = s * s, s3 = s2 * s;
+  ring.P = (2 * s3 - 3 * s2 + 1) * C[i0] + (s3 - 2 * s2 + s) * m0 + (-2 * s3 + 3 * s2) * C[i1] + (s3 - s2) * m1;
+  Vec3 T = (6 * s2 - 6 * s) * C[i0] + (3 * s2 - 4 * s + 1) * m0 + (-6 * s2 + 6 * s) * C[i1] +
+           (3 * s2 - 2 * s) * m1;
+  const double tlen = T.norm();
+  T = tlen > kZeroLength ? Vec3(T / tlen) : blend_unit(in.N[i0], in.N[i1], s);
+
+  // major axis: blended u made orthogonal to the spine tangent (Gram-Schmidt)
+  const Vec3 ub = blend_unit(in.U[i0], in.U[i1], s);
+  Vec3 u = ub - ub.dot(T) * T;
+  if (u.norm() <= kDegenerateAxis && !first) u = prev_u - prev_u.dot(T) * T;
+  u = u.norm() > kDegenerateAxis ? Vec3(u.normalized()) : any_perpendicular(T);
+  prev_u = u;
+  ring.u = u;
+
+  // minor axis: unit, orthogonal to T and u; its sign agrees with the blended w on the
+  // first ring and keeps the same handedness afterwards so no ring flips
+  Vec3 w = T.cross(u);
+  if (handed == 0.0) {
+    const Vec3 wb = blend_unit(in.W[i0], in.W[i1], s);
+    handed = w.dot(wb) >= 0.0 ? 1.0 : -1.0;
+  }
+  ring.w = w * handed;
+
+  // radii (a + r_lat, b + r_lat, c) interpolated linearly
+  ring.ap = (1.0 - s) * in.AP[i0] + s * in.AP[i1];
+  ring.am = (1.0 - s) * in.AM[i0] + s * in.AM[i1];
+  ring.cr = (1.0 - s) * in.CC[i0] + s * in.CC[i1];
+  return ring;
+}
+
+// ring j's vertices and texture coordinates; ct, st: the cos / sin table of the angles around
+void put_ring(SurfaceMesh& mesh, const Ring& ring, int j, int NR, const std::vector<double>& ct,
+              const std::vector<double>& st) {
+  const int A = static_cast<int>(ct.size());
+  const Vec3& P = ring.P;
+  const Vec3 &u = ring.u, &w = ring.w;
+  const double along = static_cast<double>(j) / NR;
+  double* pv = mesh.vertices.data() + 3 * static_cast<std::ptrdiff_t>(j) * A;
+  double* pt = mesh.uv.data() + 2 * static_cast<std::ptrdiff_t>(j) * A;
   for (int k = 0; k < A; ++k) {
-    const double t = 2.0 * kPi * k / A;
-    ct[k] = std::cos(t);
-    st[k] = std::sin(t);
+    const double x = (ct[k] >= 0.0 ? ring.ap : ring.am) * ct[k], y = ring.cr * st[k];
+    pv[3 * k + 0] = P.x() + x * u.x() + y * w.x();
+    pv[3 * k + 1] = P.y() + x * u.y() + y * w.y();
+    pv[3 * k + 2] = P.z() + x * u.z() + y * w.z();
+    pt[2 * k + 0] = along;
+    pt[2 * k + 1] = static_cast<double>(k) / A;
   }
+}
 
-  SurfaceMesh mesh;
-  const int V = NR * A + 2;
-  const int root_cap = NR * A;
-  const int apex = NR * A + 1;
-  mesh.vertices.resize(V, 3);
-  mesh.uv.resize(V, 2);
-  std::vector<Vec3> ring_center(NR);
-
-  // sweep the rings: Hermite centre, linear radii, blended and re-orthogonalised frame
-  double handed = 0.0;  // sign of w relative to T x u, fixed on the first ring
-  Vec3 prev_u = Vec3::Zero();
-  for (int j = 0; j < NR; ++j) {
-    const int seg = (j == NR - 1) ? static_cast<int>(S) - 2 : j / R;
-    const double s = (j == NR - 1) ? 1.0 : static_cast<double>(j - seg * R) / R;
-    const int i0 = seg, i1 = seg + 1;
-
-    // cubic Hermite through O_i0, O_i1 with tangents scaled by the chord length
-    const double L = (C[i1] - C[i0]).norm();
-    const Vec3 m0 = D[i0] * L, m1 = D[i1] * L;
-    const double s2 = s * s, s3 = s2 * s;
-    const Vec3 P = (2 * s3 - 3 * s2 + 1) * C[i0] + (s3 - 2 * s2 + s) * m0 +
-                   (-2 * s3 + 3 * s2) * C[i1] + (s3 - s2) * m1;
-    Vec3 T = (6 * s2 - 6 * s) * C[i0] + (3 * s2 - 4 * s + 1) * m0 + (-6 * s2 + 6 * s) * C[i1] +
-             (3 * s2 - 2 * s) * m1;
-    const double tlen = T.norm();
-    T = tlen > 1e-14 ? Vec3(T / tlen) : blend_unit(N[i0], N[i1], s);
-
-    // major axis: blended u made orthogonal to the spine tangent (Gram-Schmidt)
-    const Vec3 ub = blend_unit(U[i0], U[i1], s);
-    Vec3 u = ub - ub.dot(T) * T;
-    if (u.norm() <= 1e-9 && j > 0) u = prev_u - prev_u.dot(T) * T;
-    u = u.norm() > 1e-9 ? Vec3(u.normalized()) : any_perpendicular(T);
-    prev_u = u;
-
-    // minor axis: unit, orthogonal to T and u; its sign agrees with the blended w on the
-    // first ring and keeps the same handedness afterwards so no ring flips
-    Vec3 w = T.cross(u);
-    if (handed == 0.0) {
-      const Vec3 wb = blend_unit(W[i0], W[i1], s);
-      handed = w.dot(wb) >= 0.0 ? 1.0 : -1.0;
-    }
-    w *= handed;
-
-    // radii (a + r_lat, b + r_lat, c) interpolated linearly
-    const double ap = (1.0 - s) * AP[i0] + s * AP[i1];
-    const double am = (1.0 - s) * AM[i0] + s * AM[i1];
-    const double cr = (1.0 - s) * CC[i0] + s * CC[i1];
-
-    // ring vertices and texture coordinates
-    ring_center[j] = P;
-    const double along = static_cast<double>(j) / NR;
-    double* pv = mesh.vertices.data() + 3 * static_cast<std::ptrdiff_t>(j) * A;
-    double* pt = mesh.uv.data() + 2 * static_cast<std::ptrdiff_t>(j) * A;
-    for (int k = 0; k < A; ++k) {
-      const double x = (ct[k] >= 0.0 ? ap : am) * ct[k], y = cr * st[k];
-      pv[3 * k + 0] = P.x() + x * u.x() + y * w.x();
-      pv[3 * k + 1] = P.y() + x * u.y() + y * w.y();
-      pv[3 * k + 2] = P.z() + x * u.z() + y * w.z();
-      pt[2 * k + 0] = along;
-      pt[2 * k + 1] = static_cast<double>(k) / A;
-    }
-  }
-
-  // root cap at O_0 and the pointed tip apex beyond the last section
-  mesh.vertices.row(root_cap) = C[0].transpose();
-  mesh.uv.row(root_cap) << 0.0, 0.5;
-  const double tip_len = 0.5 * std::max(CC[S - 1], 0.5 * (AP[S - 1] + AM[S - 1]));
-  mesh.vertices.row(apex) = (C[S - 1] + N[S - 1] * tip_len).transpose();
-  mesh.uv.row(apex) << 1.0, 0.5;
-
-  // faces: two triangles per ring quad, then the root and tip fans (ring index wraps)
-  const int F = (NR - 1) * A * 2 + 2 * A;
-  mesh.faces.resize(F, 3);
+// faces: two triangles per ring quad, then the root and tip fans (ring index wraps)
+void put_faces(SurfaceMesh& mesh, int NR, int A, int root_cap, int apex) {
+  mesh.faces.resize((NR - 1) * A * 2 + 2 * A, 3);
   int* pf = mesh.faces.data();
   auto tri = [&pf](int a, int b, int c) {
     pf[0] = a;
@@ -213,9 +220,14 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   for (int k = 0; k < A; ++k) tri(root_cap, (k + 1 == A) ? 0 : k + 1, k);
   const int last = (NR - 1) * A;
   for (int k = 0; k < A; ++k) tri(apex, last + k, last + ((k + 1 == A) ? 0 : k + 1));
+}
 
-  // winding test: geometric normals of the first non-degenerate ring interval against the
-  // outward direction (vertex minus spine point); the tip fan decides if all rings coincide
+// winding test: geometric normals of the first non-degenerate ring interval against the
+// outward direction (vertex minus spine point); the tip fan decides if all rings coincide.
+// Turns every face over when they face inward
+void orient_outward(SurfaceMesh& mesh, const std::vector<Vec3>& ring_center, int A, int apex,
+                    const Vec3& tip_center) {
+  const int NR = static_cast<int>(ring_center.size());
   auto vert = [&mesh](int i) -> Vec3 { return mesh.vertices.row(i).transpose(); };
   double outward = 0.0;
   for (int j = 0; j + 1 < NR && outward == 0.0; ++j) {
@@ -225,73 +237,143 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
       outward += ((b - a).cross(c - a)).dot((a + b + c) / 3.0 - mid);
     }
   }
+  const int last = (NR - 1) * A;
   if (outward == 0.0) {
     const Vec3 a = vert(apex);
     for (int k = 0; k < A; ++k) {
       const Vec3 b = vert(last + k), c = vert(last + (k + 1) % A);
-      outward += ((b - a).cross(c - a)).dot((a + b + c) / 3.0 - C[S - 1]);
+      outward += ((b - a).cross(c - a)).dot((a + b + c) / 3.0 - tip_center);
     }
   }
-  if (outward < 0.0) {
-    int* q = mesh.faces.data();
-    for (int g = 0; g < F; ++g, q += 3) std::swap(q[1], q[2]);
+  if (outward >= 0.0) return;
+  int* q = mesh.faces.data();
+  for (Eigen::Index g = 0; g < mesh.faces.rows(); ++g, q += 3) std::swap(q[1], q[2]);
+}
+
+}  // namespace
+
+SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOptions& opt) {
+  const std::size_t S = sections.size();
+  check_options(S, opt);
+  const SweepInput in = checked_sections(sections);
+  const int R = opt.rings_per_segment;
+  const int A = opt.around;
+  const int NR = static_cast<int>(static_cast<long long>(S - 1) * R + 1);
+
+  // cos / sin table for t_k = 2 pi k / around
+  std::vector<double> ct(A), st(A);
+  for (int k = 0; k < A; ++k) {
+    const double t = 2.0 * kPi * k / A;
+    ct[k] = std::cos(t);
+    st[k] = std::sin(t);
   }
+
+  SurfaceMesh mesh;
+  const int V = NR * A + 2;
+  const int root_cap = NR * A;
+  const int apex = NR * A + 1;
+  mesh.vertices.resize(V, 3);
+  mesh.uv.resize(V, 2);
+  std::vector<Vec3> ring_center(NR);
+  double handed = 0.0;
+  Vec3 prev_u = Vec3::Zero();
+  for (int j = 0; j < NR; ++j) {
+    const int seg = (j == NR - 1) ? static_cast<int>(S) - 2 : j / R;
+    const double s = (j == NR - 1) ? 1.0 : static_cast<double>(j - seg * R) / R;
+    const Ring ring = sweep_ring(in, seg, s, j == 0, prev_u, handed);
+    ring_center[j] = ring.P;
+    put_ring(mesh, ring, j, NR, ct, st);
+  }
+
+  // root cap at O_0 and the pointed tip apex beyond the last section
+  mesh.vertices.row(root_cap) = in.C[0].transpose();
+  mesh.uv.row(root_cap) << 0.0, 0.5;
+  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1]));
+  mesh.vertices.row(apex) = (in.C[S - 1] + in.N[S - 1] * tip_len).transpose();
+  mesh.uv.row(apex) << 1.0, 0.5;
+  put_faces(mesh, NR, A, root_cap, apex);
+  orient_outward(mesh, ring_center, A, apex, in.C[S - 1]);
   return mesh;
 }
 
-std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
-  const auto& Vx = mesh.vertices;
-  const auto& Fx = mesh.faces;
-  const int V = static_cast<int>(Vx.rows());
-  const int F = static_cast<int>(Fx.rows());
+namespace {
 
-  // one crossing segment per straddling triangle: start/end edge keys, start point
-  struct Segment {
-    std::uint64_t from, to;
-    Vec2 p;
-  };
+// one crossing segment per straddling triangle: start/end edge keys, start point
+struct Segment {
+  std::uint64_t from, to;
+  Vec2 p;
+};
+
+// crossing point on the edge (i, j), computed from the canonical order so both triangles
+// of the edge get bit-identical points
+Vec2 cross_point(const SurfaceMesh& mesh, int i, int j) {
+  const auto& Vx = mesh.vertices;
+  if (i > j) std::swap(i, j);
+  const double zi = Vx(i, 2), zj = Vx(j, 2);
+  const double t = zi / (zi - zj);  // sides differ, so zi != zj
+  return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
+}
+
+void check_face(int f, const int* v, int V) {
+  if (static_cast<unsigned>(v[0]) < static_cast<unsigned>(V) && static_cast<unsigned>(v[1]) < static_cast<unsigned>(V) &&
+      static_cast<unsigned>(v[2]) < static_cast<unsigned>(V))
+    return;
+  std::ostringstream os;
+  os << "footprint_loops: face " << f << " has a vertex index out of range [0, " << V << "): (" << v[0]
+     << ", " << v[1] << ", " << v[2] << ")";
+  throw std::invalid_argument(os.str());
+}
+
+// orient each segment: with outward normal N the travel direction is e_z x N, so the
+// solid lies to the left (outer loops ccw, holes cw); for a face (A, B, C) whose lone
+// vertex is A this means  A below: edge CA -> edge AB,  A above: edge AB -> edge CA
+std::vector<Segment> crossing_segments(const SurfaceMesh& mesh) {
+  const auto& Vx = mesh.vertices;
+  const int V = static_cast<int>(Vx.rows());
+  const int F = static_cast<int>(mesh.faces.rows());
   std::vector<Segment> segs;
   segs.reserve(64);
-
-  // crossing point on the edge (i, j), computed from the canonical order so both triangles
-  // of the edge get bit-identical points
-  auto cross_point = [&Vx](int i, int j) -> Vec2 {
-    if (i > j) std::swap(i, j);
-    const double zi = Vx(i, 2), zj = Vx(j, 2);
-    const double t = zi / (zi - zj);  // sides differ, so zi != zj
-    return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
-  };
-
-  // orient each segment: with outward normal N the travel direction is e_z x N, so the
-  // solid lies to the left (outer loops ccw, holes cw); for a face (A, B, C) whose lone
-  // vertex is A this means  A below: edge CA -> edge AB,  A above: edge AB -> edge CA
   std::vector<unsigned char> up(static_cast<std::size_t>(V));
   for (int i = 0; i < V; ++i) up[i] = Vx(i, 2) >= 0.0 ? 1 : 0;
-  const int* pf = Fx.data();
+  const int* pf = mesh.faces.data();
   for (int f = 0; f < F; ++f, pf += 3) {
     const int v[3] = {pf[0], pf[1], pf[2]};
-    if (static_cast<unsigned>(v[0]) >= static_cast<unsigned>(V) ||
-        static_cast<unsigned>(v[1]) >= static_cast<unsigned>(V) ||
-        static_cast<unsigned>(v[2]) >= static_cast<unsigned>(V)) {
-      std::ostringstream os;
-      os << "footprint_loops: face " << f << " has a vertex index out of range [0, " << V << "): (" << v[0]
-         << ", " << v[1] << ", " << v[2] << ")";
-      throw std::invalid_argument(os.str());
-    }
+    check_face(f, v, V);
     const int up0 = up[v[0]], up1 = up[v[1]], up2 = up[v[2]];
     if (up0 == up1 && up1 == up2) continue;
     // rotate (cyclically, keeping the winding) so the lone vertex comes first
     const int lone = (up1 == up2) ? 0 : (up0 == up2) ? 1 : 2;
     const int a = v[lone], b = v[(lone + 1) % 3], c = v[(lone + 2) % 3];
-    const bool lone_up = up[a] != 0;
     const std::uint64_t kab = edge_key(a, b), kca = edge_key(c, a);
-    if (lone_up) {
-      segs.push_back({kab, kca, cross_point(a, b)});
-    } else {
-      segs.push_back({kca, kab, cross_point(c, a)});
-    }
+    if (up[a] != 0) segs.push_back({kab, kca, cross_point(mesh, a, b)});
+    else segs.push_back({kca, kab, cross_point(mesh, c, a)});
   }
+  return segs;
+}
 
+// walk from segment s0 until the loop returns to it, collecting its points (zero-length steps,
+// a vertex lying exactly on the plane, skipped); false for an open chain (only possible for a
+// mesh that is not closed)
+bool walk_loop(const std::vector<Segment>& segs, const std::unordered_map<std::uint64_t, int>& by_start,
+               int s0, std::vector<char>& used, std::vector<Vec2>& pts) {
+  pts.clear();
+  int s = s0;
+  while (true) {
+    used[s] = 1;
+    const Vec2& p = segs[s].p;
+    if (pts.empty() || (p - pts.back()).squaredNorm() > kSamePoint2) pts.push_back(p);
+    const auto it = by_start.find(segs[s].to);
+    if (it == by_start.end()) return false;
+    s = it->second;
+    if (s == s0) return true;
+    if (used[s]) return false;
+  }
+}
+
+}  // namespace
+
+std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
+  const std::vector<Segment> segs = crossing_segments(mesh);
   // link segments through their shared edge keys
   std::unordered_map<std::uint64_t, int> by_start;
   by_start.reserve(segs.size() * 2);
@@ -302,30 +384,9 @@ std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
   std::vector<Vec2> pts;
   pts.reserve(segs.size());
   for (int s0 = 0; s0 < static_cast<int>(segs.size()); ++s0) {
-    if (used[s0]) continue;
-    // walk until the loop returns to its first segment; an open chain (only possible for a
-    // mesh that is not closed) is dropped
-    pts.clear();
-    int s = s0;
-    bool closed = false;
-    while (true) {
-      used[s] = 1;
-      const Vec2& p = segs[s].p;
-      // skip zero-length steps (a vertex lying exactly on the plane)
-      if (pts.empty() || (p - pts.back()).squaredNorm() > 1e-24) pts.push_back(p);
-      const auto it = by_start.find(segs[s].to);
-      if (it == by_start.end()) break;
-      s = it->second;
-      if (s == s0) {
-        closed = true;
-        break;
-      }
-      if (used[s]) break;
-    }
-    if (!closed) continue;
-    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= 1e-24) pts.pop_back();
+    if (used[s0] || !walk_loop(segs, by_start, s0, used, pts)) continue;
+    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= kSamePoint2) pts.pop_back();
     if (pts.size() < 3) continue;
-
     // emit the loop as a (k, 2) row-major matrix, first point not repeated
     LoopMatrix m(static_cast<Eigen::Index>(pts.size()), 2);
     for (std::size_t i = 0; i < pts.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
@@ -339,7 +400,7 @@ FootprintSpan footprint_span(const std::vector<LoopMatrix>& loops, double headin
   FootprintSpan out;
   double twice = 0.0, mx = 0.0, my = 0.0, sx = 0.0, sy = 0.0;
   Eigen::Index count = 0;
-  Vec2 lo(1e300, 1e300), hi(-1e300, -1e300);
+  Vec2 lo(kFar, kFar), hi(-kFar, -kFar);
   for (const auto& L : loops) {
     const Eigen::Index k = L.rows();
     for (Eigen::Index i = 0; i < k; ++i) {
@@ -356,14 +417,14 @@ FootprintSpan footprint_span(const std::vector<LoopMatrix>& loops, double headin
     count += k;
   }
   const double area = 0.5 * twice;
-  if (count == 0 || std::abs(area) < 1e-9) return out;
+  if (count == 0 || std::abs(area) < kMinFootprintArea) return out;
   out.valid = true;
   out.centroid = Vec2(mx, my) / (6.0 * area);
   if ((out.centroid.array() < lo.array()).any() || (out.centroid.array() > hi.array()).any())
     out.centroid = Vec2(sx, sy) / static_cast<double>(count);
   // extents across the heading and along it, about the centroid
   const Vec2 along(std::cos(heading), std::sin(heading)), across(-along.y(), along.x());
-  double a_lo = 1e300, a_hi = -1e300, c_lo = 1e300, c_hi = -1e300;
+  double a_lo = kFar, a_hi = -kFar, c_lo = kFar, c_hi = -kFar;
   for (const auto& L : loops)
     for (Eigen::Index i = 0; i < L.rows(); ++i) {
       const Vec2 d = Vec2(L(i, 0), L(i, 1)) - out.centroid;

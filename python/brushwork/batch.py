@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .glyphs import load_source
+from .glyphs import charsets, load_source
+from .glyphs.charsets import gb2312  # noqa: F401  (batch.gb2312: the benchmarks' pool)
 from .glyphs.sources import add_source_hint
 from .files import decodes, os_error_text, save_paper
 from .paper import Paper
@@ -107,13 +108,11 @@ def parse_charset(text: str) -> str:
     return "".join(dict.fromkeys(c for c in text if not c.isspace()))
 
 
-CHARSETS = {"gb2312": None, "gb2312-1": 1, "gb2312-2": 2}    # built-in charsets: name -> GB2312 level
-
-
 def read_charset(path: str | os.PathLike) -> str:
     """A charset file's characters; the names gb2312, gb2312-1 and gb2312-2 are built in."""
-    if str(path).lower() in CHARSETS and not Path(path).exists():
-        return gb2312(CHARSETS[str(path).lower()])
+    builtin = None if Path(path).exists() else charsets.named(str(path))
+    if builtin is not None:
+        return builtin
     try:
         text = Path(path).read_text(encoding="utf-8")
     except UnicodeDecodeError as err:
@@ -122,20 +121,6 @@ def read_charset(path: str | os.PathLike) -> str:
     if not chars:
         raise ValueError(f"{path}: no characters in the charset file")
     return chars
-
-
-def gb2312(level: int | None = None) -> str:
-    """GB2312's hanzi in code order: level 1 (3,755, by pinyin), level 2 (3,008, by radical), or
-    both (6,763) when level is None; decoded through Python's gb2312 codec."""
-    rows = {1: range(0xB0, 0xD8), 2: range(0xD8, 0xF8), None: range(0xB0, 0xF8)}[level]
-    out = []
-    for hi in rows:
-        for lo in range(0xA1, 0xFF):
-            try:
-                out.append(bytes((hi, lo)).decode("gb2312"))
-            except UnicodeDecodeError:
-                pass            # the unassigned tail of row 0xD7
-    return "".join(out)
 
 
 # --- the worker side (one process per job; each owns a brush, a GL context and its papers) ---

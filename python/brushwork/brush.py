@@ -16,7 +16,10 @@ class Brush(_core.Brush):
     ``step(pose)`` solves one frame and returns `StepStats`; ``skeleton()`` is the (n+1, 3) spine,
     root first, in mm; ``footprint()`` a list of (k, 2) polygons on the paper (mm, outer loops
     counter-clockwise, holes clockwise); ``footprint_area()`` their area in mm^2; ``reset()``
-    straightens the brush and forgets plasticity.
+    straightens the brush and forgets plasticity.  ``state()`` copies everything that moves (an
+    opaque `BrushState`, with ``copy()``) and ``set_state(state)`` puts it back (ValueError for a
+    state of a brush of another shape): the brush then replays bit for bit.  The ink is not part of
+    it (see `ink`).
     """
 
     def __init__(self, model: _core.BrushModel | str = "medium"):

@@ -450,6 +450,10 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = parser.parse_args(argv)
         return int(args.handler(args))
+    except BrokenPipeError:
+        # the reader closed our output (`brushwork params | head`): stop quietly, as a filter does
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
     # user-facing failures: one line, exit 2
     except (ValueError, OSError) as exc:
         print(f"brushwork: error: {_one_line(exc)}", file=sys.stderr)

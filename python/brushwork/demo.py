@@ -52,15 +52,26 @@ def _draw_brush_3d(ax, brush: Brush, title: str) -> None:
     ax.view_init(elev=18, azim=-60)
 
 
+PLOT_HINT = "the demo's figure needs matplotlib: pip install 'brushwork[plot]'"
+
+
+def _pyplot():
+    """matplotlib's pyplot on the Agg backend; ModuleNotFoundError saying how to get it when missing."""
+    try:
+        import matplotlib
+    except ModuleNotFoundError:
+        raise ModuleNotFoundError(PLOT_HINT, name="matplotlib") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
 def render_demo(path: str, preset: str = "medium", frames: int = 320) -> dict:
     """Simulate press_drag_turn_lift with `preset` and write the figure to `path` (PNG).
 
     Returns a summary: frames, mean iterations, footprint areas (mm^2) at the snapshots.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = _pyplot()
     from matplotlib.patches import Polygon
 
     model = BrushModel.preset(preset)
@@ -129,7 +140,13 @@ def render_demo(path: str, preset: str = "medium", frames: int = 320) -> dict:
 
 
 def main(path: str = "brush_demo.png") -> int:
-    summary = render_demo(path)
+    try:
+        summary = render_demo(path)
+    except ModuleNotFoundError as exc:
+        if exc.name != "matplotlib":
+            raise
+        print(f"brushwork: error: {PLOT_HINT}", file=sys.stderr)
+        return 2
     print(f"wrote {path}: {summary['frames']} frames, mean {summary['mean_iterations']:.2f} "
           f"SQP iterations per frame, largest footprint {summary['max_area']:.1f} mm^2",
           file=sys.stderr)

@@ -2,9 +2,9 @@
 optionally beside each the same character from a reference font drawn through FreeType, so a
 designer compares at a glance.
 
-Image work goes through OpenCV (resizing, drawing, PNG) and FreeType (matplotlib's `ft2font`, a
-FreeType binding that is already a dependency). The default reference font is a Kai face: AR PL
-UKai (Debian/Ubuntu: apt install fonts-arphic-ukai) or AR PL KaitiM GB (fonts-arphic-gkai00mp).
+Image work goes through OpenCV (resizing, drawing, PNG) and FreeType (`freetype-py`, which
+bundles the library). The default reference font is a Kai face: AR PL UKai (Debian/Ubuntu: apt
+install fonts-arphic-ukai) or AR PL KaitiM GB (fonts-arphic-gkai00mp).
 """
 from __future__ import annotations
 
@@ -40,16 +40,17 @@ class FontDrawer:
     """Characters from one font file as coverage images, through FreeType."""
 
     def __init__(self, path: str):
-        from matplotlib import ft2font
+        import freetype
 
         try:
-            self.font = ft2font.FT2Font(str(path))
-        except (RuntimeError, OSError) as err:
+            self.face = freetype.Face(str(path))
+        except (freetype.FT_Exception, OSError) as err:
             raise ValueError(f"{path}: cannot open the font: {err}") from None
         self.path = str(path)
+        self._render = freetype.FT_LOAD_RENDER | freetype.FT_LOAD_NO_BITMAP   # outlines, antialiased
 
     def has(self, char: str) -> bool:
-        return self.font.get_char_index(ord(char)) != 0
+        return self.face.get_char_index(ord(char)) != 0
 
     def draw(self, char: str, size: int, em_fraction: float = 0.9) -> np.ndarray | None:
         """(size, size) uint8 coverage (255 = ink) of char, its em square scaled to em_fraction of
@@ -57,11 +58,11 @@ class FontDrawer:
         if not self.has(char):
             return None
         px = max(4, int(round(size * em_fraction)))
-        self.font.set_size(px, 72)           # at 72 dpi a point is a pixel: the em is px pixels
-        self.font.set_text(char, 0.0)
-        self.font.draw_glyphs_to_bitmap(antialiased=True)
-        bmp = np.asarray(self.font.get_image(), dtype=np.uint8)    # (h, w) tight ink box
-        out = np.zeros((size, size), np.uint8)
+        self.face.set_char_size(px * 64, 0, 72, 72)     # 26.6 points at 72 dpi: the em is px pixels
+        self.face.load_char(char, self._render)
+        bitmap = self.face.glyph.bitmap
+        bmp = np.array(bitmap.buffer, dtype=np.uint8).reshape(bitmap.rows, bitmap.pitch)[:, :bitmap.width]
+        out = np.zeros((size, size), np.uint8)              # bmp: (h, w) tight ink box
         h, w = min(bmp.shape[0], size), min(bmp.shape[1], size)
         y0, x0 = (size - h) // 2, (size - w) // 2
         out[y0:y0 + h, x0:x0 + w] = bmp[:h, :w]

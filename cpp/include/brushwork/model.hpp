@@ -86,4 +86,31 @@ void set_param(BrushModel& m, const std::string& name, double value);  // valida
 
 constexpr int kMaxSegments = 16;
 
+// A BrushModel and the constants derived from it once (MuJoCo's compiled mjModel): read-only
+// while the brush moves.  Per segment j = 0..n-1 or per node i = 0..n.
+struct Tuft {
+  BrushModel model;
+  int n = 0;            // spine segments
+  int nx = 0;           // 5n, entries of the full variable vector x
+  int mmax = 0;         // n + 1, the most constraints a frame can have (sections and pore plane)
+  double m_exp = 2.0;   // m, the spring exponent
+  double f_scale = 1.0; // N*mm, kappa at the root: the force scale of the KKT residual
+  double shrink = 0.5;  // Phi_i / Omega_i
+  Eigen::VectorXd len;   // (n,) mm, segment lengths l_j
+  Eigen::VectorXd r0;    // (n+1,) mm, unspread radius r_i
+  Eigen::VectorXd rlat;  // (n+1,) mm, effective radius r_lat of the lateral nodes
+  Eigen::VectorXd kb;    // (n,) N*mm/rad^m, bend springs kappa_j
+  Eigen::VectorXd kt;    // (n,) N*mm/rad^m, twist springs
+  Eigen::VectorXd kpsi;  // (n+1,) N*mm/rad^m, springs on the lateral lines' rotation psi_i
+  Eigen::VectorXd klb;   // (n+1,) N*mm, lateral bend springs at node i
+  double ks = 0.0;       // N*mm/mm^m, stretch springs
+  double eta = 0.0;      // -, internal friction as a fraction of each spring
+  std::vector<int> active;  // indices into x of the variables the solver moves
+  // rest (t_i - t_{i-1}) of each side's lateral polyline (+u, -u), in (w_i, u_i, n_i) coordinates
+  std::vector<Eigen::Vector3d> lb_rest[2];
+
+  explicit Tuft(const BrushModel& m);  // validates m
+  int na() const { return static_cast<int>(active.size()); }
+};
+
 }  // namespace brushwork

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "brushwork/brush.hpp"
+#include "brushwork/sweep_plan.hpp"
 
 namespace brushwork {
 
@@ -130,12 +131,21 @@ struct DepositStats {
                                // last and this part's count (0: blend only)
   double deposited = 0.0;      // mm^2 of full-density ink given to the paper (depletion only)
   std::array<int, 4> rect{{0, 0, 0, 0}};  // px x0, y0, x1, y1 (exclusive) touched, y up
+  bool drawn = false;          // the footprint pass drew (contact, and some pixel of the paper)
+  std::vector<float> pressure; // (n+1) node pressure in [0, 1] the pass drew with (when drawn)
+  double travel = 0.0;         // mm: the largest move of the surface in reach of the paper
 };
+
+// What a deposit did to the brush's ink (seed "Ink loading"): with depletion, the ink the pass
+// gave the paper taken from the nodes (first in proportion to pressure x load), capillary flow
+// toward the tuft's mean wetness, and the brush's wetness set to load / capacity; with a soaked
+// tip, the excess moisture drained by the distance travelled in contact.
+void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, Brush& brush);
 
 // ---------------------------------------------------------------------------------------------
 // paper
 
-class FootprintProgram;  // internal
+class FootprintPass;  // internal
 struct PaperTile;        // internal
 
 // A canvas of float ink: premultiplied RGBA, alpha = ink coverage.  Strokes go first into a
@@ -150,7 +160,9 @@ class Paper {
   Paper(const Paper&) = delete;
   Paper& operator=(const Paper&) = delete;
 
-  DepositStats deposit(Brush& brush, Ink* ink);  // ink may be null: black, constant level
+  // draw the brush's footprint swept from its last deposit; ink may be null: black, constant
+  // level.  The ink and the brush are left as they are: spend_ink() applies the stats to them
+  DepositStats deposit(const Brush& brush, const Ink* ink);
   void end_stroke();   // composite the stroke layer (also on lift, readback and save)
   bool undo();         // remove the last stroke; false when there is none
   void clear();
@@ -190,6 +202,9 @@ class Paper {
 
  private:
   void flush_stroke();
+  void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
+                 const Ink* ink, double excess, DepositStats& stats);
+  double layer_gain(const std::array<int, 4>& rect);  // mm^2 the stroke layer gained over rect
   void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
   void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
                  const std::function<void(PaperTile&, int, int, int, int)>& f);
@@ -204,17 +219,14 @@ class Paper {
   int W_ = 0, H_ = 0, T_ = 0, samples_ = 1;
   bool max_blend_ = false;  // the layer keeps the densest deposit by max blending (no colour ramp)
   std::vector<std::unique_ptr<PaperTile>> tiles_;
-  std::unique_ptr<FootprintProgram> program_;
+  std::unique_ptr<FootprintPass> program_;
   unsigned composite_program_ = 0, quad_vao_ = 0, quad_vbo_ = 0;
   unsigned split_tex_ = 0, dry_tex_ = 0, grain_tex_ = 0, ramp_tex_ = 0;
 
-  // stroke state: the last deposit's vertices (for the sweep), the stroke's pixel rectangle
+  // stroke state: the last deposit's surface (for the sweep), the stroke's pixel rectangle
   bool stroke_open_ = false, stroke_pending_ = false;
   const Brush* last_brush_ = nullptr;
-  std::vector<float> last_vertices_;     // (V, 3) render vertices of the last deposit, mm
-  std::vector<float> last_centers_;      // (V, 3) their ring centres, mm
-  std::vector<double> last_placed_;      // (V, 3) the last deposit's surface as the shader placed it, mm
-  double last_soak_ = 0.0;               // the soaked tip's growth it was placed with
+  SweepFrame last_;
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom

@@ -1095,13 +1095,17 @@ def _plot_metric(ax, curves: dict, default_row: dict, metric: tuple) -> None:
     ax.grid(True, which="both", alpha=0.3)
 
 
-def plot(result: dict, path: str) -> None:
+PLOT_HINT = "plot skipped: it needs matplotlib (pip install 'brushwork[plot]')"
+
+
+def plot(result: dict, path: str) -> bool:
     """Log-log plot of the error medians against the median time per frame, one curve per
-    solver and setting family, the shipped default starred; written atomically to `path` (PNG)."""
+    solver and setting family, the shipped default starred; written atomically to `path` (PNG).
+    False, and nothing written, when matplotlib is not installed."""
     try:
         import matplotlib
     except ImportError:
-        raise ValueError("the precision plot needs matplotlib: pip install brushwork[plot]") from None
+        return False
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -1123,6 +1127,7 @@ def plot(result: dict, path: str) -> None:
         write_atomic(path, lambda tmp: fig.savefig(tmp, dpi=110, format="png"), suffix=".png")
     finally:
         plt.close(fig)
+    return True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -1154,7 +1159,10 @@ def handle(args: argparse.Namespace) -> int:
                  progress=not args.no_progress)
     text = table(result)
     print(text)
-    plot(result, png)
+    if not plot(result, png):
+        print(PLOT_HINT)
+        png = "none"
+
     def write_md(tmp: str) -> None:
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text + "\n")

@@ -16,33 +16,42 @@ from .svgpath import parse_svg_path
 EM_BOX = (0.0, -124.0, 1024.0, 900.0)
 
 
-def glyph_from_mmah(doc, char: str | None, where: str) -> Glyph:
+def glyph_from_mmah(doc, char: str | None, where: str, outlines: bool = True) -> Glyph:
     """One character's {"strokes": [outline d, ...], "medians": [[[x, y], ...], ...]} -> Glyph.
-    char: the character (None: doc["character"]); where: the file (and line) named in errors."""
+    char: the character (None: doc["character"]); where: the file (and line) named in errors;
+    outlines: False for medians alone (no "strokes"; the glyph's strokes then carry no outline)."""
+    char, medians, shapes = _fields(doc, char, where, outlines)
+    frame = Glyph(char, ord(char), [], "", EM_BOX, False)
+    strokes = []
+    for i, (outline, median) in enumerate(zip(shapes, medians)):
+        pts = frame.to_em(check_points(where, f"medians[{i}]", median))
+        if outline is not None:
+            try:
+                parse_svg_path(outline)
+            except GlyphError as e:
+                raise GlyphError(where, f"strokes[{i}]: {e}") from None
+        strokes.append(Stroke(pts, infer_stroke_type(pts), outline=outline))
+    frame.strokes = strokes
+    return frame
+
+
+def _fields(doc, char: str | None, where: str, outlines: bool) -> tuple[str, list, list]:
+    """(character, medians, outlines: one SVG path or None a stroke) of a checked document."""
     if not isinstance(doc, dict):
         raise GlyphError(where, f"expected a JSON object, got {type(doc).__name__}")
     char = doc.get("character") if char is None else char
     if not isinstance(char, str) or len(char) != 1:
         raise GlyphError(where, f"character: expected one character, got {char!r:.20}")
-    outlines, medians = doc.get("strokes"), doc.get("medians")
-    for key, val in (("strokes", outlines), ("medians", medians)):
+    medians = doc.get("medians")
+    shapes = doc.get("strokes") if outlines else [None] * (len(medians) if isinstance(medians, list) else 0)
+    for key, val in (("strokes", shapes), ("medians", medians)):
         if not isinstance(val, list):
             raise GlyphError(where, f"{key}: missing or not a list")
     if not medians:
         raise GlyphError(where, "no strokes")
-    if len(outlines) != len(medians):
-        raise GlyphError(where, f"{len(outlines)} outlines (strokes) but {len(medians)} medians")
-    frame = Glyph(char, ord(char), [], "", EM_BOX, False)
-    strokes = []
-    for i, (outline, median) in enumerate(zip(outlines, medians)):
-        pts = frame.to_em(check_points(where, f"medians[{i}]", median))
-        try:
-            parse_svg_path(outline)
-        except GlyphError as e:
-            raise GlyphError(where, f"strokes[{i}]: {e}") from None
-        strokes.append(Stroke(pts, infer_stroke_type(pts), outline=outline))
-    frame.strokes = strokes
-    return frame
+    if len(shapes) != len(medians):
+        raise GlyphError(where, f"{len(shapes)} outlines (strokes) but {len(medians)} medians")
+    return char, medians, shapes
 
 
 def read_graphics(path: Path, wanted: set[str] | None) -> Iterator[tuple[str | None, Glyph | GlyphError]]:

@@ -89,13 +89,13 @@ def _unit(theta: float) -> np.ndarray:
     return np.array([math.cos(math.radians(theta)), math.sin(math.radians(theta))])
 
 
-def stroke_legs(points_em: np.ndarray) -> tuple[list[tuple[str, float, float]], bool]:
-    """The centreline as legs [(class, length em, angle deg)], classes as in _direction, the last one
-    "G" for a hook or "T" for a rising tick when the stroke ends in a short sharp turn; and whether a
-    corner was rounded (a short leg between two others, heading between them)."""
-    p = np.asarray(points_em, dtype=np.float64)
-    p = p[np.r_[True, np.any(np.diff(p, axis=0) != 0, axis=1)]]
-    total = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+def _length(v) -> float:
+    return float(np.hypot(*v))
+
+
+def _simplified_legs(p: np.ndarray, total: float) -> list[np.ndarray]:
+    """The legs (vectors, em) of polyline p's Douglas-Peucker simplification, consecutive legs
+    that turn less than MERGE_DEG joined into one."""
     idx = _rdp(p, max(SIMPLIFY_MIN, SIMPLIFY_FRAC * total))
     vec: list[np.ndarray] = []
     for a, b in zip(idx[:-1], idx[1:]):
@@ -103,32 +103,59 @@ def stroke_legs(points_em: np.ndarray) -> tuple[list[tuple[str, float, float]], 
             vec[-1] = vec[-1] + (p[b] - p[a])
         else:
             vec.append(p[b] - p[a])
-    length = lambda v: float(np.hypot(*v))  # noqa: E731
-    while len(vec) > 1 and (length(vec[0]) < ENTRY_FRAC * total or (
-            length(vec[0]) < ENTRY_SOFT_FRAC * total and _turn(_angle(vec[0]), _angle(vec[1])) < ENTRY_TURN_DEG)):
+    return vec
+
+
+def _drop_entry(vec: list[np.ndarray], total: float) -> None:
+    """Remove the brush's entry: a very short first leg, or a short one turning gently into the next."""
+    while len(vec) > 1 and (_length(vec[0]) < ENTRY_FRAC * total or (
+            _length(vec[0]) < ENTRY_SOFT_FRAC * total and _turn(_angle(vec[0]), _angle(vec[1])) < ENTRY_TURN_DEG)):
         vec.pop(0)
+
+
+def _round_corners(vec: list[np.ndarray], total: float) -> bool:
+    """Remove short legs heading between their neighbours (a rounded corner); whether there was one."""
     rounded = False
     i = 1
-    while i < len(vec) - 1:   # rounded corners: short legs heading between their neighbours
+    while i < len(vec) - 1:
         a, b, c = _angle(vec[i - 1]), _angle(vec[i]), _angle(vec[i + 1])
-        short = length(vec[i]) < min(CORNER_FRAC * total, length(vec[i - 1]), length(vec[i + 1]))
+        short = _length(vec[i]) < min(CORNER_FRAC * total, _length(vec[i - 1]), _length(vec[i + 1]))
         if short and abs(_turn(a, b) + _turn(b, c) - _turn(a, c)) < 1e-6:
             vec.pop(i)
             rounded = True
         else:
             i += 1
-    hook = None
-    if len(vec) > 1 and length(vec[-1]) < HOOK_FRAC * total:
+    return rounded
+
+
+def _is_hook(before: np.ndarray, last: np.ndarray) -> bool:
+    """Whether a short last leg turning sharply from `before` is a hook (or tick) rather than the
+    next leg of a turn: after a horizontal, a leg heading down must be short against it."""
+    theta = _angle(last)
+    if _turn(_angle(before), theta) < HOOK_TURN_DEG:
+        return False
+    rel = _length(last) / _length(before)
+    down_after_h = _direction(_angle(before)) == "H" and -170.0 < theta < -60.0
+    return not down_after_h or rel < HOOK_DOWN_REL or (theta <= FOLD_DEG and rel < HOOK_SLANT_REL)
+
+
+def _take_hook(vec: list[np.ndarray], total: float) -> tuple[str, float, float] | None:
+    """Remove a final short leg: a hook ("G") or rising tick ("T") leg when it is one (returned),
+    or the exit flick when it is very short."""
+    if len(vec) < 2 or _length(vec[-1]) >= HOOK_FRAC * total:
+        return None
+    if _is_hook(vec[-2], vec[-1]):
         last = _angle(vec[-1])
-        rel = length(vec[-1]) / length(vec[-2])
-        down_after_h = _direction(_angle(vec[-2])) == "H" and -170.0 < last < -60.0
-        if _turn(_angle(vec[-2]), last) >= HOOK_TURN_DEG and (not down_after_h or rel < HOOK_DOWN_REL or (
-                last <= FOLD_DEG and rel < HOOK_SLANT_REL)):
-            hook = ("T" if -15.0 < last < 75.0 else "G", length(vec[-1]), last)
-            vec.pop()
-        elif length(vec[-1]) < EXIT_FRAC * total:   # a flick at the exit, not a hook
-            vec.pop()
-    legs = [(_direction(_angle(v)), length(v), _angle(v)) for v in vec]
+        return ("T" if -15.0 < last < 75.0 else "G", _length(vec.pop()), last)
+    if _length(vec[-1]) < EXIT_FRAC * total:
+        vec.pop()
+    return None
+
+
+def _named_legs(vec: list[np.ndarray]) -> list[tuple[str, float, float]]:
+    """Legs as (class, length, angle), a turn's vertical that leans in named S, and consecutive
+    legs of the same class joined into one."""
+    legs = [(_direction(_angle(v)), _length(v), _angle(v)) for v in vec]
     for i in range(1, len(legs)):   # the vertical of a turn may lean in: 口's right side
         if legs[i - 1][0] == "H" and legs[i][0] == "P" and legs[i][2] > FOLD_DEG:
             legs[i] = ("S",) + legs[i][1:]
@@ -136,12 +163,24 @@ def stroke_legs(points_em: np.ndarray) -> tuple[list[tuple[str, float, float]], 
     for name, n, theta in legs:
         if out and out[-1][0] == name:   # the same class again: one leg
             v = _unit(out[-1][2]) * out[-1][1] + _unit(theta) * n
-            out[-1] = (name, length(v), _angle(v))
+            out[-1] = (name, _length(v), _angle(v))
         else:
             out.append((name, n, theta))
-    if hook:
-        out.append(hook)
-    return out, rounded
+    return out
+
+
+def stroke_legs(points_em: np.ndarray) -> tuple[list[tuple[str, float, float]], bool]:
+    """The centreline as legs [(class, length em, angle deg)], classes as in _direction, the last one
+    "G" for a hook or "T" for a rising tick when the stroke ends in a short sharp turn; and whether a
+    corner was rounded (a short leg between two others, heading between them)."""
+    p = np.asarray(points_em, dtype=np.float64)
+    p = p[np.r_[True, np.any(np.diff(p, axis=0) != 0, axis=1)]]
+    total = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+    vec = _simplified_legs(p, total)
+    _drop_entry(vec, total)
+    rounded = _round_corners(vec, total)
+    hook = _take_hook(vec, total)
+    return _named_legs(vec) + ([hook] if hook else []), rounded
 
 
 # Leg sequences -> stroke type (after entries and rounded corners are gone).
@@ -166,26 +205,37 @@ _PATTERNS = {
 _ROUNDED = {"㇗": "㇄"}   # the same legs, turning in a curve rather than a corner
 
 
-def infer_stroke_type(points_em: np.ndarray) -> str:
-    """A CJK stroke char for a centreline (k, 2) in em units (y up), from its directions, corners
-    and hooks; a sequence the table does not know falls back to the stroke's main direction."""
-    p = np.asarray(points_em, dtype=np.float64)
+def _checked_length(p: np.ndarray) -> float:
+    """The length of centreline p (k, 2) em; GlyphError when it is not finite points or has none."""
     if p.ndim != 2 or p.shape[1:] != (2,) or not np.all(np.isfinite(p)):
         raise GlyphError("stroke", f"points: expected finite (k, 2) coordinates, got shape {p.shape}")
     total = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
     if not total > 0:
         raise GlyphError("stroke", "points: empty stroke (fewer than 2 distinct points)")
+    return total
+
+
+def _is_dot(seq: str, legs, total: float) -> bool:
+    """A falling stroke that is very short, or short and falling right."""
+    return all(name in "NSP" for name in seq) and (
+        total < SHORT_DOT_LEN or (total < DOT_LEN and legs[0][0] == "N"))
+
+
+_MAIN = {"H": "㇐", "T": "㇀", "U": "㇀", "B": "㇒", "L": "㇐", "P": "㇒", "S": "㇑", "N": "㇏", "G": "㇚"}
+
+
+def infer_stroke_type(points_em: np.ndarray) -> str:
+    """A CJK stroke char for a centreline (k, 2) in em units (y up), from its directions, corners
+    and hooks; a sequence the table does not know falls back to the stroke's main direction."""
+    p = np.asarray(points_em, dtype=np.float64)
+    total = _checked_length(p)
     legs, rounded = stroke_legs(p)
     seq = "".join(name for name, _, _ in legs)
-    if all(name in "NSP" for name in seq) and (
-            total < SHORT_DOT_LEN or (total < DOT_LEN and legs[0][0] == "N")):
+    if _is_dot(seq, legs, total):
         return "㇔"
     if seq in _PATTERNS:
         kind = _PATTERNS[seq]
         return _ROUNDED.get(kind, kind) if rounded else kind
     # unknown sequence: the longest leg decides, keeping a final hook after a vertical
     main = max((leg for leg in legs if leg[0] != "G"), key=lambda leg: leg[1], default=legs[0])[0]
-    if seq.endswith("G") and main in "SP":
-        return "㇚"
-    return {"H": "㇐", "T": "㇀", "U": "㇀", "B": "㇒", "L": "㇐", "P": "㇒", "S": "㇑", "N": "㇏",
-            "G": "㇚"}[main]
+    return "㇚" if seq.endswith("G") and main in "SP" else _MAIN[main]

@@ -208,7 +208,8 @@ def style_table() -> str:
     for f in FIELDS:
         default = "required" if f.required else json.dumps(list(f.default) if f.kind == "pair" else f.default,
                                                             ensure_ascii=False)
-        rows.append(f"| {f.name} | {f.unit} | {f.range_text()} | {default} | {f.doc} |")
+        cells = (f"`{f.name}`", f.unit, f.range_text(), default, f.doc)
+        rows.append("| " + " | ".join(c.replace("|", "&#124;") for c in cells) + " |")
     return "\n".join(rows)
 
 
