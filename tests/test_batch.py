@@ -16,6 +16,7 @@ from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
+from brushwork.recorded import root_height
 from brushwork.writing import Style, Writer, render_glyph
 from brushwork.writing.targets import _resample
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
@@ -530,9 +531,9 @@ class _LeavesOnPress:
     """A brush that touches the paper while the root is pressed deeper than `leave_at` (L) below
     first contact, and records every pose it is given."""
 
-    def __init__(self, L, tilt, leave_at, off_from=None):
-        self.model = SimpleNamespace(tuft_length=L)
-        self.z_leave = L * math.cos(math.radians(tilt)) - leave_at * L
+    def __init__(self, model, tilt, leave_at, off_from=None):
+        self.model = model
+        self.z_leave = root_height(model, tilt, leave_at)
         self.off_from = off_from    # from this step on (1-based) off the paper whatever the press
         self.poses = []
 
@@ -564,14 +565,28 @@ def test_the_lift_goes_straight_up_once_the_brush_has_left(leave_at, off_at_trav
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
     before_exit = kai.air_frames + kai.entry_frames + len(_resample(pts, kai.step_mm)[0])
     writer = Writer(_Paper(), kai)
-    writer.brush = _LeavesOnPress(writer.L, kai.tilt_deg, leave_at, before_exit if off_at_travel_end else None)
+    writer.brush = _LeavesOnPress(writer.shape, kai.tilt_deg, leave_at, before_exit if off_at_travel_end else None)
     writer.press = 0.2
     writer.write_stroke(pts, "㇐")
     z = np.array([p.position[2] for p in writer.brush.poses])
     exit_z = z[before_exit:]
     assert len(exit_z) == exit_steps
-    assert exit_z[-1] == pytest.approx(writer._z(-kai.hover, kai.tilt_deg))
+    assert exit_z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
     assert np.all(np.diff(exit_z) > 0.0)        # always up
+
+
+@pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])
+def test_root_height_puts_the_straight_tip_press_below_first_contact(tilt):
+    """root_height(model, tilt, press): above the paper (press < 0) the straight tuft's tip hangs
+    -press L over it and leaves no footprint; pressed (press > 0) the brush touches."""
+    from brushwork.brush import Brush, Pose
+
+    b = Brush("medium")
+    L = b.model.tuft_length
+    b.step(Pose((0.0, 0.0, root_height(b.model, tilt, -0.02)), tilt, 0.0))
+    assert b.skeleton()[-1][2] == pytest.approx(0.02 * L, abs=1e-9) and not b.footprint()
+    b.step(Pose((0.0, 0.0, root_height(b.model, tilt, 0.05)), tilt, 0.0))
+    assert b.footprint()
 
 
 def _trace_exit(style, size=512):
@@ -606,8 +621,8 @@ def _trace_exit(style, size=512):
 
 def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     """出锋 (kai's taper_from): past taper_from of the median the press only eases, and the
-    footprint never swells again before the lift (no bead); the exit lifts in place. The same
-    stroke without the rule ends in a bead. (At 512 px, as `bench glyphs` writes: the ink's
+    footprint never swells again ahead of the lift (no bead); the exit lifts in place. The same
+    stroke with taper_from off ends in a bead. (At 512 px, as `bench glyphs` writes: the ink's
     depletion, counted in pixels, feeds the brush's wetness and so its adhesion; at 128 px this
     stroke's belly comes down again during the lift.)"""
     kai = Style.load("kai")

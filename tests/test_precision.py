@@ -1,4 +1,4 @@
-"""The work-precision benchmark (issue 5): its reference, its errors, its table and its files.
+"""The work-precision benchmark: its reference, its errors, its table and its files.
 
 Timings are never asserted here (DESIGN.md): the front and the speed ratios are the bench's output.
 """

@@ -1,4 +1,4 @@
-"""The stiff and extreme cases the user asked for (issue 2), run at reduced frame counts.
+"""The stiff and extreme cases of `bench stability`, run at reduced frame counts.
 
 `brushwork bench stability` runs the same cases in full, plus >= 10,000 randomised frames.
 """

@@ -17,6 +17,14 @@ def _lerp(a: float, b: float, t: float) -> float:
     return a + (b - a) * t
 
 
+def root_height(model: BrushModel, tilt_deg: float, press: float) -> float:
+    """Height z (mm) of the brush root `press` L below first contact, the handle tilted
+    `tilt_deg` from the vertical: L cos(tilt) - press L, L the tuft length (press 0: the straight
+    tuft's tip just touches the paper; negative: the tip is above it)."""
+    L = model.tuft_length
+    return L * math.cos(math.radians(tilt_deg)) - press * L
+
+
 def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.2,
                          tilt_deg: float = 15.0) -> list[Pose]:
     """A calligraphic stroke: descend and press (root `press` L below first contact), drag along +x,
@@ -29,8 +37,8 @@ def press_drag_turn_lift(model: BrushModel, frames: int = 320, press: float = 0.
     if frames < 50:
         raise ValueError(f"press_drag_turn_lift: frames = {frames} is too few (at least 50)")
     L = model.tuft_length
-    contact_z = L * math.cos(math.radians(tilt_deg))
-    z_air, z_press = contact_z + 0.15 * L, contact_z - press * L
+    contact_z = root_height(model, tilt_deg, 0.0)
+    z_air, z_press = contact_z + 0.15 * L, root_height(model, tilt_deg, press)
     n_press, n_drag, n_turn, n_lift = (int(frames * f) for f in (0.12, 0.38, 0.25, 0.19))
     n_air = frames - n_press - n_drag - n_turn - n_lift
     drag_len, radius = 2.0 * L, 0.8 * L
@@ -67,8 +75,8 @@ def pressed_drag(model: BrushModel, frames: int = 160, press: float = 0.2, tilt_
     with the handle held at (`tilt_deg`, `azimuth_deg`). azimuth = heading: the tip trails;
     azimuth = heading + 180: the tip is pushed (seed Figure 11b); heading + 90: a biased tip."""
     L = model.tuft_length
-    contact_z = L * math.cos(math.radians(tilt_deg))
-    z_air, z_press = contact_z + 0.1 * L, contact_z - press * L
+    contact_z = root_height(model, tilt_deg, 0.0)
+    z_air, z_press = contact_z + 0.1 * L, root_height(model, tilt_deg, press)
     n_press = max(frames // 4, 1)
     h = math.radians(heading_deg)
     poses = []
@@ -92,8 +100,8 @@ def flick(model: BrushModel, frames: int = 40, press: float = 0.15, tilt_deg: fl
     if frames < 20:
         raise ValueError(f"flick: frames = {frames} is too few (at least 20)")
     L = model.tuft_length
-    contact_z = L * math.cos(math.radians(tilt_deg))
-    z_air, z_press = contact_z + 0.15 * L, contact_z - press * L
+    contact_z = root_height(model, tilt_deg, 0.0)
+    z_air, z_press = contact_z + 0.15 * L, root_height(model, tilt_deg, press)
     n_press, n_hold, n_flick = (max(1, int(frames * f)) for f in (0.40, 0.10, 0.15))
     n_air = frames - n_press - n_hold - n_flick
     h = math.radians(heading_deg)
@@ -137,8 +145,8 @@ def straight_stroke(model: BrushModel, start=(0.0, 0.0), length_mm: float = 60.0
         raise ValueError(f"straight_stroke: step_mm = {step_mm} and length_mm = {length_mm} must be > 0")
     L = model.tuft_length
     az = heading_deg if azimuth_deg is None else azimuth_deg
-    contact_z = L * math.cos(math.radians(tilt_deg))
-    z_air, z_press = contact_z + 0.1 * L, contact_z - press * L
+    contact_z = root_height(model, tilt_deg, 0.0)
+    z_air, z_press = contact_z + 0.1 * L, root_height(model, tilt_deg, press)
     h = math.radians(heading_deg)
     ux, uy = math.cos(h), math.sin(h)
     poses = [Pose((start[0], start[1], _lerp(z_air, z_press, (k + 1) / press_frames)), tilt_deg, az)
@@ -190,17 +198,14 @@ def along_path(model: BrushModel, points, press, tilt_deg=15.0, azimuth_deg=None
     ss = np.linspace(0.0, s[-1], n)
     xs, ys = np.interp(ss, s, pts[:, 0]), np.interp(ss, s, pts[:, 1])
     pr, tl, az = np.interp(ss, s, press_k), np.interp(ss, s, tilt_k), np.interp(ss, s, az_k)
-    L = model.tuft_length
-
-    def z_of(p, tilt):
-        return L * math.cos(math.radians(tilt)) - p * L
-
     poses = []
+    z_first = (root_height(model, tl[0], -hover), root_height(model, tl[0], pr[0]))    # hover, pressed
     for j in range(approach_frames):
         t = (j + 1) / (approach_frames + 1)
-        poses.append(Pose((xs[0], ys[0], _lerp(z_of(-hover, tl[0]), z_of(pr[0], tl[0]), t)), tl[0], az[0]))
-    poses += [Pose((x, y, z_of(p, t)), t, a) for x, y, p, t, a in zip(xs, ys, pr, tl, az)]
+        poses.append(Pose((xs[0], ys[0], _lerp(*z_first, t)), tl[0], az[0]))
+    poses += [Pose((x, y, root_height(model, t, p)), t, a) for x, y, p, t, a in zip(xs, ys, pr, tl, az)]
+    z_last = (root_height(model, tl[-1], pr[-1]), root_height(model, tl[-1], -hover))  # pressed, hover
     for j in range(lift_frames):
         t = (j + 1) / lift_frames
-        poses.append(Pose((xs[-1], ys[-1], _lerp(z_of(pr[-1], tl[-1]), z_of(-hover, tl[-1]), t)), tl[-1], az[-1]))
+        poses.append(Pose((xs[-1], ys[-1], _lerp(*z_last, t)), tl[-1], az[-1]))
     return poses

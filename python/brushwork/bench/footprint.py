@@ -7,12 +7,11 @@ frames ("static"); the "dragged" figure is the mean over frames 31-40 of a drag 
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..brush import Brush, Pose
 from .. import BrushModel
+from ..recorded import root_height
 
 DEPTHS = (0.05, 0.1, 0.2, 0.3, 0.4)
 TILTS = (0.0, 15.0, 30.0)
@@ -30,8 +29,7 @@ def measure(model: BrushModel, tilt: float, depth: float, drag_frames: int = 0) 
     """(area mm^2, width mm) static, or the mean over the last 10 of `drag_frames`."""
     b = Brush(model)
     L = model.tuft_length
-    zc = L * math.cos(math.radians(tilt))
-    z0, z1 = zc + 0.05 * L, zc - depth * L
+    z0, z1 = root_height(model, tilt, 0.0) + 0.05 * L, root_height(model, tilt, depth)
     for k in range(40):
         b.step(Pose((0.0, 0.0, z0 + (z1 - z0) * (k + 1) / 40), tilt, 0.0))
     for _ in range(5):

@@ -2,7 +2,7 @@
 
     brushwork bench precision [--json FILE] [--out DIR] [--quick]
 
-What is measured (issue 5; NUMERICS.md "Error against run time"):
+What is measured (NUMERICS.md "Error against run time"):
 
 * **References.** Every recorded motion (press-drag-turn-lift and a fast flick, on the stiffest
   and the softest preset, exponent m = 2 and 3) is replayed with the core's own solver at
@@ -661,6 +661,14 @@ def _p95(xs) -> Optional[float]:
     return float(np.percentile(xs, 95)) if len(xs) else None
 
 
+def _mean(xs) -> Optional[float]:
+    return float(np.mean(xs)) if len(xs) else None
+
+
+def _one_minus_mean(xs) -> Optional[float]:
+    return 1.0 - float(np.mean(xs)) if len(xs) else None
+
+
 def _row(solver: str, setting: str, family: str, default: bool, times, gaps, skel_mm, skel_frac,
          fp_err, **extra) -> dict:
     """One table row (times in s per frame; the other arrays per frame)."""
@@ -683,90 +691,124 @@ def _row(solver: str, setting: str, family: str, default: bool, times, gaps, ske
     return row
 
 
+def _pool_our_motion(pool: dict, motion: Motion, tr: Trajectory, ref: Reference) -> None:
+    """Append to `pool` (key -> list, one entry per frame) the valid frames of our trajectory
+    `tr` on `motion` against its reference `ref`."""
+    model = motion.model()
+    L = model.tuft_length
+    e_floor = ENERGY_FLOOR * model.bend_stiffness
+    v = ref.valid
+    pool["t"] += list(tr.times[v])
+    pool["its"] += list(tr.iterations[v])
+    pool["conv"] += list(tr.converged[v])
+    pool["kk"] += list(tr.kkt[v])
+    pool["gaps"] += list(np.abs(tr.gaps[v]))
+    for k in np.flatnonzero(v):
+        d = skeleton_error(tr.skeletons[k], ref.skeletons[k])
+        pool["sk"].append(d)
+        pool["skf"].append(d / L)
+        pool["fe"].append(footprint_error(tr.footprints[k], ref.footprints[k]))
+        # the energy of our frame's own problem against the reference's (posable: polished)
+        e_ref = ref.energies[k] if ref.posable[k] else ref.core_energies[k]
+        pool["drift"].append(abs(tr.energies[k] - e_ref) / max(abs(e_ref), e_floor))
+
+
+def _our_row(st: Setting, results: list) -> dict:
+    """The row of our setting `st`, its per-frame errors pooled over the motions run at its rate."""
+    if st.family == "float":
+        return _row(OURS, st.label, st.family, False, [], [], [], [], [], kkt_median=None,
+                    note=FLOAT_NOTE)
+    pool = {key: [] for key in ("t", "gaps", "sk", "skf", "fe", "its", "conv", "kk", "drift")}
+    for motion, rate, ours, ref in results:
+        if rate == st.rate and st.label in ours:
+            _pool_our_motion(pool, motion, ours[st.label], ref)
+    label = default_label() if st.default else st.label
+    gaps = pool["gaps"]
+    return _row(OURS, label, st.family, st.default, pool["t"], gaps, pool["sk"], pool["skf"], pool["fe"],
+                kkt_median=_median(pool["kk"]), energy_drift_median=_median(pool["drift"]),
+                gap_unmeasured_frac=_mean(~np.isfinite(np.asarray(gaps, float))),
+                mean_iterations=_mean(pool["its"]),
+                unconverged_frac=_one_minus_mean(pool["conv"]),
+                note="")
+
+
+def _peer_row(p: Peer, tol: float, results: list) -> dict:
+    """The row of peer `p` at tolerance `tol`, its one-frame errors pooled over the 1x motions."""
+    pool = {key: [] for key in ("t", "gaps", "sk", "skf", "fe", "ok", "kk")}
+    for motion, rate, _ours, ref in results:
+        if rate != 1.0:
+            continue
+        rec = ref.peers[(p.name, tol)]
+        L = motion.model().tuft_length
+        v = ref.valid[rec["frame"].astype(int)] if len(rec["frame"]) else np.zeros(0, bool)
+        for key, column in (("t", "times"), ("gaps", "gap"), ("sk", "skel_err"), ("fe", "fp_err"),
+                            ("ok", "ok"), ("kk", "kkt")):
+            pool[key] += list(rec[column][v])
+        pool["skf"] += list(rec["skel_err"][v] / L)
+    own = p.own_default is not None and tol == p.own_default
+    note = "one-frame errors from the reference's previous frame"
+    if p.stride > 1:
+        note += f"; 1 posable frame in {p.stride}"
+    return _row(p.name, f"{p.option}={tol:.0e}" + (" (its default)" if own else ""), "peer", False,
+                pool["t"], pool["gaps"], pool["sk"], pool["skf"], pool["fe"],
+                kkt_median=_median(pool["kk"]), failed_frac=_one_minus_mean(pool["ok"]), note=note)
+
+
 def build_rows(results: list, setting_list: list, peer_runs: list) -> list[dict]:
     """Pool the per-frame errors of every motion into one row per solver and setting.
 
     results: (motion, rate, ours: label -> Trajectory, Reference) tuples."""
-    rows = []
-    for st in setting_list:
-        if st.family == "float":
-            rows.append(_row(OURS, st.label, st.family, False, [], [], [], [], [], kkt_median=None,
-                             note=FLOAT_NOTE))
-            continue
-        t, gaps, sk, skf, fe, its, conv, kk, drift = [], [], [], [], [], [], [], [], []
-        for motion, rate, ours, ref in results:
-            if rate != st.rate or st.label not in ours:
-                continue
-            tr = ours[st.label]
-            L = motion.model().tuft_length
-            e_floor = ENERGY_FLOOR * motion.model().bend_stiffness
-            v = ref.valid
-            t += list(tr.times[v])
-            its += list(tr.iterations[v])
-            conv += list(tr.converged[v])
-            kk += list(tr.kkt[v])
-            gaps += list(np.abs(tr.gaps[v]))
-            for k in np.flatnonzero(v):
-                d = skeleton_error(tr.skeletons[k], ref.skeletons[k])
-                sk.append(d)
-                skf.append(d / L)
-                fe.append(footprint_error(tr.footprints[k], ref.footprints[k]))
-                # the energy of our frame's own problem against the reference's (posable: polished)
-                e_ref = ref.energies[k] if ref.posable[k] else ref.core_energies[k]
-                drift.append(abs(tr.energies[k] - e_ref) / max(abs(e_ref), e_floor))
-        label = default_label() if st.default else st.label
-        rows.append(_row(OURS, label, st.family, st.default, t, gaps, sk, skf, fe,
-                         kkt_median=_median(kk), energy_drift_median=_median(drift),
-                         gap_unmeasured_frac=float(np.mean(~np.isfinite(gaps))) if gaps else None,
-                         mean_iterations=float(np.mean(its)) if its else None,
-                         unconverged_frac=1.0 - float(np.mean(conv)) if conv else None,
-                         note=""))
-    for p, tol in peer_runs:
-        t, gaps, sk, skf, fe, ok, kk = [], [], [], [], [], [], []
-        for motion, rate, ours, ref in results:
-            if rate != 1.0:
-                continue
-            rec = ref.peers[(p.name, tol)]
-            L = motion.model().tuft_length
-            v = ref.valid[rec["frame"].astype(int)] if len(rec["frame"]) else np.zeros(0, bool)
-            t += list(rec["times"][v])
-            gaps += list(rec["gap"][v])
-            sk += list(rec["skel_err"][v])
-            skf += list(rec["skel_err"][v] / L)
-            fe += list(rec["fp_err"][v])
-            ok += list(rec["ok"][v])
-            kk += list(rec["kkt"][v])
-        own = p.own_default is not None and tol == p.own_default
-        rows.append(_row(p.name, f"{p.option}={tol:.0e}" + (" (its default)" if own else ""),
-                         "peer", False, t, gaps, sk, skf, fe, kkt_median=_median(kk),
-                         failed_frac=1.0 - float(np.mean(ok)) if ok else None,
-                         note="one-frame errors from the reference's previous frame"
-                         + (f"; 1 posable frame in {p.stride}" if p.stride > 1 else "")))
-    return rows
+    return ([_our_row(st, results) for st in setting_list]
+            + [_peer_row(p, tol, results) for p, tol in peer_runs])
 
 
 def _err_key(row: dict) -> tuple:
     return (row["skeleton_error_mm_median"], row["energy_gap_median"], row["footprint_error_median"])
 
 
+def _dominates(r: dict, d: dict) -> bool:
+    """Row `r` is faster than row `d` by more than FASTER_MARGIN, no worse on the skeleton error,
+    the energy gap and the footprint error medians, and better on at least one."""
+    if r["ms_per_frame_median"] is None:
+        return False
+    faster = r["ms_per_frame_median"] < (1.0 - FASTER_MARGIN) * d["ms_per_frame_median"]
+    pairs = [(a, b) for a, b in zip(_err_key(r), _err_key(d)) if a is not None and b is not None]
+    return faster and all(a <= b for a, b in pairs) and any(a < b for a, b in pairs)
+
+
 def front_check(rows: list[dict]) -> dict:
-    """Is the default on the front of our settings at 1x poses (q_max, tolerance, Hessian)?  A row
-    dominates it when it is faster by more than FASTER_MARGIN and no worse on the skeleton error,
-    the energy gap and the footprint error medians, better on at least one."""
+    """Is the default on the front of our settings at 1x poses (q_max, tolerance, Hessian)?  It is
+    when no other such row dominates it (`_dominates`)."""
     d = next(r for r in rows if r["default"])
-    dominated_by = []
-    for r in rows:
-        if r["solver"] != OURS or r["default"] or r["family"] not in ("q_max", "tolerance", "hessian"):
-            continue
-        if r["ms_per_frame_median"] is None:
-            continue
-        faster = r["ms_per_frame_median"] < (1.0 - FASTER_MARGIN) * d["ms_per_frame_median"]
-        pairs = [(a, b) for a, b in zip(_err_key(r), _err_key(d)) if a is not None and b is not None]
-        no_worse = all(a <= b for a, b in pairs)
-        better = any(a < b for a, b in pairs)
-        if faster and no_worse and better:
-            dominated_by.append(r["setting"])
+    rivals = [r for r in rows if r["solver"] == OURS and not r["default"]
+              and r["family"] in ("q_max", "tolerance", "hessian")]
+    dominated_by = [r["setting"] for r in rivals if _dominates(r, d)]
     return {"on_front": not dominated_by, "dominated_by": dominated_by}
+
+
+def _at_least_as_accurate(r: dict, d: dict) -> bool:
+    """Row `r`'s KKT residual and energy gap medians are no worse than row `d`'s."""
+    return (r["kkt_median"] is not None and r["kkt_median"] <= d["kkt_median"]
+            and r["energy_gap_median"] <= d["energy_gap_median"])
+
+
+def _peer_ratio(prs: list[dict], d: dict) -> dict:
+    """The speed verdict of one peer's rows `prs` against our default row `d`."""
+    own = next((r for r in prs if "(its default)" in r["setting"]), None)
+    if own is None:  # no default of its own: the 1e-6 setting, as SciPy's
+        own = next((r for r in prs if "1e-06" in r["setting"]), prs[0])
+    matching = [r for r in prs if _at_least_as_accurate(r, d)]
+    cheapest = min(matching, key=lambda r: r["ms_per_frame_median"]) if matching else None
+    return {
+        "peer": own["solver"],
+        "peer_setting": own["setting"],
+        "time_ratio": own["ms_per_frame_median"] / d["ms_per_frame_median"],
+        "ours_as_accurate": (d["kkt_median"] <= own["kkt_median"]
+                             and d["energy_gap_median"] <= own["energy_gap_median"]),
+        "cheapest_as_accurate_setting": cheapest["setting"] if cheapest else None,
+        "cheapest_as_accurate_time_ratio": (cheapest["ms_per_frame_median"] / d["ms_per_frame_median"]
+                                            if cheapest else None),
+    }
 
 
 def speed_ratios(rows: list[dict]) -> list[dict]:
@@ -775,30 +817,8 @@ def speed_ratios(rows: list[dict]) -> list[dict]:
     footprint errors are not head-to-head, ours along a trajectory, theirs over one frame), and
     the time ratio of the cheapest peer setting at least as accurate as our default."""
     d = next(r for r in rows if r["default"])
-    out = []
-    for name in dict.fromkeys(r["solver"] for r in rows if r["family"] == "peer"):
-        prs = [r for r in rows if r["solver"] == name]
-        own = next((r for r in prs if "(its default)" in r["setting"]), None)
-        if own is None:  # no default of its own: the 1e-6 setting, as SciPy's
-            own = next((r for r in prs if "1e-06" in r["setting"]), prs[0])
-
-        def as_accurate(r):
-            return (r["kkt_median"] is not None and r["kkt_median"] <= d["kkt_median"]
-                    and r["energy_gap_median"] <= d["energy_gap_median"])
-
-        matching = [r for r in prs if as_accurate(r)]
-        cheapest = min(matching, key=lambda r: r["ms_per_frame_median"]) if matching else None
-        out.append({
-            "peer": name,
-            "peer_setting": own["setting"],
-            "time_ratio": own["ms_per_frame_median"] / d["ms_per_frame_median"],
-            "ours_as_accurate": (d["kkt_median"] <= own["kkt_median"]
-                                 and d["energy_gap_median"] <= own["energy_gap_median"]),
-            "cheapest_as_accurate_setting": cheapest["setting"] if cheapest else None,
-            "cheapest_as_accurate_time_ratio": (cheapest["ms_per_frame_median"] / d["ms_per_frame_median"]
-                                                if cheapest else None),
-        })
-    return out
+    names = dict.fromkeys(r["solver"] for r in rows if r["family"] == "peer")
+    return [_peer_ratio([r for r in rows if r["solver"] == name], d) for name in names]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -858,6 +878,60 @@ def machine_note() -> str:
             f"NumPy {np.__version__}" + (", " + ", ".join(vers) if vers else ""))
 
 
+def _posable_kkt(ref: Reference) -> tuple[Optional[float], Optional[float]]:
+    """(max, fraction <= 1e-10) of the polished KKT residuals over the valid posable frames."""
+    kept = ref.posable & ref.valid
+    if not kept.any():
+        return None, None
+    return float(np.nanmax(ref.kkt[kept])), float(np.mean(ref.kkt[kept] <= 1e-10))
+
+
+def _reference_summary(motion: Motion, rate: float, frames: int, ref: Reference) -> dict:
+    """One line of the reference table: how many frames were posable and valid, and how tight."""
+    kkt_max, kkt_tight = _posable_kkt(ref)
+    return {
+        "motion": motion.name, "rate": rate, "frames": frames,
+        "posable_frames": int(ref.posable.sum()),
+        # over the valid frames (every statistic uses only those)
+        "polished_kkt_max": kkt_max,
+        "polished_kkt_le_1e-10_frac": kkt_tight,
+        "core_kkt_median": float(np.median(ref.core_kkt)),
+        "core_kkt_max": float(np.max(ref.core_kkt)),
+        "probe_resyncs": ref.resyncs,
+        "valid_frames": int(ref.valid.sum()),
+        "reference_failed_at": (int(np.argmin(ref.valid)) if not ref.valid.all() else None),
+        "failed_frames": int((~ref.valid).sum()),
+    }
+
+
+def _run_at_rate(motion: Motion, rate: float, setting_list: list, peer_runs: list, repeats: int,
+                 say: Callable[[str], None]) -> tuple[dict, Reference, int]:
+    """Replay `motion` at `rate` with every setting of ours at that rate, then its reference (and
+    the peers, at 1x).  Returns (label -> Trajectory, the Reference, the number of frames)."""
+    poses = motion.poses(rate)
+    ours = {}
+    for st in setting_list:
+        if st.family == "float" or st.rate != rate:
+            continue
+        model = _model_for(motion, st.overrides)
+        ours[st.label] = run_ours(model, poses, repeats)
+        ours[st.label].gaps = own_problem_gaps(model, poses)
+    say(f"{motion.name} at {rate:g}x ({len(poses)} frames): {len(ours)} settings of ours run")
+    ref = run_reference(motion, poses, peer_runs if rate == 1.0 else [], say)
+    return ours, ref, len(poses)
+
+
+def _add_ink_iou(rows: list[dict], setting_list: list) -> None:
+    """Fill in the ink-mask IoU column of our 1x q_max, tolerance and Hessian rows."""
+    ink_iou = INK_MASK_IOU()
+    # (the default's row carries the spelled-out label, default_label(), not its own)
+    by_label = {(default_label() if st.default else st.label): st for st in setting_list}
+    for row in rows:
+        st = by_label.get(row["setting"]) if row["solver"] == OURS else None
+        if st is not None and st.family in ("q_max", "tolerance", "hessian") and st.rate == 1.0:
+            row["ink_mask_iou_median"] = ink_iou(dict(st.overrides))
+
+
 def run(quick: bool = False, repeats: Optional[int] = None, peers: bool = True,
         progress: bool = True) -> dict:
     """Run the whole benchmark; returns {"rows", "front", "speed_ratios", "table1", "reference",
@@ -873,44 +947,16 @@ def run(quick: bool = False, repeats: Optional[int] = None, peers: bool = True,
     for n in notes:
         say(n)
     results, ref_summary = [], []
+    rates = sorted({s.rate for s in setting_list if s.family != "float"})
     for motion in motions(quick):
-        for rate in sorted({s.rate for s in setting_list if s.family != "float"}):
-            poses = motion.poses(rate)
-            ours = {}
-            for st in setting_list:
-                if st.family == "float" or st.rate != rate:
-                    continue
-                model = _model_for(motion, st.overrides)
-                ours[st.label] = run_ours(model, poses, repeats)
-                ours[st.label].gaps = own_problem_gaps(model, poses)
-            say(f"{motion.name} at {rate:g}x ({len(poses)} frames): {len(ours)} settings of ours run")
-            ref = run_reference(motion, poses, peer_runs if rate == 1.0 else [], say)
+        for rate in rates:
+            ours, ref, frames = _run_at_rate(motion, rate, setting_list, peer_runs, repeats, say)
             results.append((motion, rate, ours, ref))
-            ref_summary.append({
-                "motion": motion.name, "rate": rate, "frames": len(poses),
-                "posable_frames": int(ref.posable.sum()),
-                # over the valid frames (every statistic uses only those)
-                "polished_kkt_max": (float(np.nanmax(ref.kkt[ref.posable & ref.valid]))
-                                     if (ref.posable & ref.valid).any() else None),
-                "polished_kkt_le_1e-10_frac": (float(np.mean(ref.kkt[ref.posable & ref.valid] <= 1e-10))
-                                               if (ref.posable & ref.valid).any() else None),
-                "core_kkt_median": float(np.median(ref.core_kkt)),
-                "core_kkt_max": float(np.max(ref.core_kkt)),
-                "probe_resyncs": ref.resyncs,
-                "valid_frames": int(ref.valid.sum()),
-                "reference_failed_at": (int(np.argmin(ref.valid)) if not ref.valid.all() else None),
-                "failed_frames": int((~ref.valid).sum()),
-            })
+            ref_summary.append(_reference_summary(motion, rate, frames, ref))
     rows = build_rows(results, setting_list, peer_runs)
     if INK_MASK_IOU is not None and not quick:
         say("ink-mask IoU of a written character per setting (the reference render takes a minute)")
-        ink_iou = INK_MASK_IOU()
-        # (the default's row carries the spelled-out label, default_label(), not its own)
-        by_label = {(default_label() if st.default else st.label): st for st in setting_list}
-        for row in rows:
-            st = by_label.get(row["setting"]) if row["solver"] == OURS else None
-            if st is not None and st.family in ("q_max", "tolerance", "hessian") and st.rate == 1.0:
-                row["ink_mask_iou_median"] = ink_iou(dict(st.overrides))
+        _add_ink_iou(rows, setting_list)
     say("Table 1")
     t1 = table1(quick)
     return {
@@ -996,6 +1042,59 @@ def table(result: dict) -> str:
     return "\n".join(out)
 
 
+PLOT_FLOOR = 1e-12   # errors of exactly 0 are drawn at this height of the log axis
+PLOT_METRICS = (("skeleton_error_mm_median", "skeleton error, median over frames (mm)",
+                 "against the reference: ours along our own trajectory, peers over one frame\n"
+                 "from the reference's previous frame (not head to head)"),
+                ("energy_gap_median", "relative energy gap, median over frames",
+                 "on the frame problem each solver was given, against its exact minimum\n"
+                 "(head to head)"))
+FAMILY_STYLES = {"q_max": ("tab:blue", "o"), "tolerance": ("tab:green", "s"), "hessian": ("tab:purple", "D"),
+                 "rate": ("tab:brown", "^")}
+PEER_COLORS = ["tab:red", "tab:orange", "tab:gray"]
+
+
+def _curve_style(solver: str, family: str, peer_index: int) -> tuple[str, str, str]:
+    """(colour, marker, legend name) of one curve; `peer_index` counts the peer curves drawn so far."""
+    if solver == OURS:
+        color, marker = FAMILY_STYLES.get(family, ("black", "o"))
+        return color, marker, f"ours: {family} sweep" if family != "hessian" else "ours: fresh Hessian"
+    return PEER_COLORS[peer_index % len(PEER_COLORS)], "x", solver
+
+
+def _point_tag(r: dict) -> str:
+    """The text beside one point: its setting, short (q20 for q_max=20), none for the default."""
+    if r["default"]:
+        return ""
+    tag = r["setting"].split(" (")[0]
+    return tag.replace("q_max=", "q") if r["solver"] == OURS and r["family"] == "q_max" else tag
+
+
+def _plot_metric(ax, curves: dict, default_row: dict, metric: tuple) -> None:
+    """Draw on `ax` one error `metric` (key, axis label, title) against the time per frame: one
+    curve per (solver, family) in `curves`, the shipped default starred."""
+    key, label, title = metric
+    peer_index = 0
+    for (solver, family), rs in curves.items():
+        rs = sorted(rs, key=lambda r: r["ms_per_frame_median"])
+        x = [r["ms_per_frame_median"] for r in rs]
+        y = [max(r[key] if r[key] is not None else np.nan, PLOT_FLOOR) for r in rs]
+        color, marker, name = _curve_style(solver, family, peer_index)
+        peer_index += solver != OURS
+        ax.plot(x, y, marker=marker, color=color, label=name, lw=1.2, ms=6)
+        for r, xi, yi in zip(rs, x, y):
+            ax.annotate(_point_tag(r), (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=7,
+                        color=color)
+    ax.plot([default_row["ms_per_frame_median"]], [max(default_row[key], PLOT_FLOOR)], marker="*", ms=18,
+            color="gold", mec="black", ls="none", label="shipped default", zorder=5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_title(title, fontsize=9)
+    ax.set_xlabel("time per frame, median (ms)")
+    ax.set_ylabel(label)
+    ax.grid(True, which="both", alpha=0.3)
+
+
 PLOT_HINT = "plot skipped: it needs matplotlib (pip install 'brushwork[plot]')"
 
 
@@ -1013,50 +1112,13 @@ def plot(result: dict, path: str) -> bool:
     from .report import write_atomic
 
     rows = [r for r in result["rows"] if r["ms_per_frame_median"] is not None]
-    floor = 1e-12  # errors of exactly 0 are drawn here
-    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
-    metrics = (("skeleton_error_mm_median", "skeleton error, median over frames (mm)",
-                "against the reference: ours along our own trajectory, peers over one frame\n"
-                "from the reference's previous frame (not head to head)"),
-               ("energy_gap_median", "relative energy gap, median over frames",
-                "on the frame problem each solver was given, against its exact minimum\n"
-                "(head to head)"))
     curves: dict = {}
     for r in rows:
-        key = (r["solver"], r["family"])
-        curves.setdefault(key, []).append(r)
-    styles = {"q_max": ("tab:blue", "o"), "tolerance": ("tab:green", "s"), "hessian": ("tab:purple", "D"),
-              "rate": ("tab:brown", "^")}
-    peer_colors = ["tab:red", "tab:orange", "tab:gray"]
-    for ax, (key, label, title) in zip(axes, metrics):
-        pi = 0
-        for (solver, family), rs in curves.items():
-            rs = sorted(rs, key=lambda r: r["ms_per_frame_median"])
-            x = [r["ms_per_frame_median"] for r in rs]
-            y = [max(r[key] if r[key] is not None else np.nan, floor) for r in rs]
-            if solver == OURS:
-                color, marker = styles.get(family, ("black", "o"))
-                name = f"ours: {family} sweep" if family != "hessian" else "ours: fresh Hessian"
-            else:
-                color, marker = peer_colors[pi % len(peer_colors)], "x"
-                pi += 1
-                name = solver
-            ax.plot(x, y, marker=marker, color=color, label=name, lw=1.2, ms=6)
-            for r, xi, yi in zip(rs, x, y):
-                tag = r["setting"].split(" (")[0] if not r["default"] else ""
-                if solver == OURS and family == "q_max":
-                    tag = tag.replace("q_max=", "q")
-                ax.annotate(tag, (xi, yi), textcoords="offset points", xytext=(4, 4), fontsize=7,
-                            color=color)
-        d = next(r for r in rows if r["default"])
-        ax.plot([d["ms_per_frame_median"]], [max(d[key], floor)], marker="*", ms=18, color="gold",
-                mec="black", ls="none", label="shipped default", zorder=5)
-        ax.set_xscale("log")
-        ax.set_yscale("log")
-        ax.set_title(title, fontsize=9)
-        ax.set_xlabel("time per frame, median (ms)")
-        ax.set_ylabel(label)
-        ax.grid(True, which="both", alpha=0.3)
+        curves.setdefault((r["solver"], r["family"]), []).append(r)
+    default_row = next(r for r in rows if r["default"])
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.5))
+    for ax, metric in zip(axes, PLOT_METRICS):
+        _plot_metric(ax, curves, default_row, metric)
     axes[0].legend(fontsize=8, loc="best")
     fig.suptitle("brushwork: error against time per frame (" + result["machine"].split(",")[0] + ")",
                  fontsize=10)

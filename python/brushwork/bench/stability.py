@@ -20,7 +20,7 @@ import numpy as np
 
 from .. import BrushModel, Pose
 from ..brush import Brush
-from ..recorded import press_drag_turn_lift
+from ..recorded import press_drag_turn_lift, root_height
 
 # the row keys every case reports (the random and the still case add a few more)
 ROW_KEYS = ("case", "frames", "nonfinite", "worst_penetration_frac", "worst_penetration_mm",
@@ -153,7 +153,7 @@ def _drag_fast(rec: _Recorder, scale: float, rng) -> None:
     m = _model()
     L = m.tuft_length
     tilt = 20.0
-    z = L * math.cos(math.radians(tilt)) - 0.25 * L
+    z = root_height(m, tilt, 0.25)
     xs = [0.0] * _n(20, scale)
     xs += [L * (k + 1) for k in range(_n(100, scale))]
     xs += [xs[-1] - L * (k + 1) for k in range(_n(50, scale))]
@@ -175,8 +175,8 @@ def _tilt85(rec: _Recorder, scale: float, rng) -> None:
     m = _model()
     L = m.tuft_length
     tilt = 85.0
-    contact = L * math.cos(math.radians(tilt))
-    z_low = contact - 0.1 * L
+    contact = root_height(m, tilt, 0.0)
+    z_low = root_height(m, tilt, 0.1)
     poses = [Pose((0.0, 0.0, z), tilt, 0.0) for z in _ramp(contact + 0.2 * L, z_low, _n(40, scale))]
     poses += [Pose((-0.05 * L * (k + 1), 0.0, z_low), tilt, 0.0) for k in range(_n(120, scale))]
     _step_all(rec, Brush(m), poses)
@@ -194,7 +194,7 @@ def _still(rec: _Recorder, scale: float, rng) -> None:
     m = _model()
     L = m.tuft_length
     tilt = 30.0
-    pose = Pose((0.0, 0.0, L * math.cos(math.radians(tilt)) - 0.2 * L), tilt, 0.0)
+    pose = Pose((0.0, 0.0, root_height(m, tilt, 0.2)), tilt, 0.0)
     n = _n(1000, scale)
     k0 = min(int(round(200 * scale)), n - 1)
     b = Brush(m)

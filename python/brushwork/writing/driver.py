@@ -23,6 +23,7 @@ import numpy as np
 
 from ..brush import Brush, Pose
 from ..paper import Paper
+from ..recorded import root_height
 from ..scene import Scene
 from .style import Style, family
 from .targets import _centroid_and_width, stroke_targets
@@ -49,7 +50,8 @@ class Writer:
         self.paper, self.style = paper, style
         self.brush = Brush(style.preset)
         self.rng = np.random.default_rng(seed)
-        self.L = self.brush.model.tuft_length
+        self.shape = self.brush.model     # a copy of the brush's model: its tuft length sets the root heights
+        self.L = self.shape.tuft_length
         self.press = style.press_start
         self.offset_local = np.zeros(2)   # root - footprint centre, in the stroke frame (along, across), mm
         self.behind = self.ahead = 0.0    # mm the footprint reaches behind / ahead of its centre
@@ -61,15 +63,13 @@ class Writer:
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
 
-    def _z(self, press: float, tilt: float) -> float:
-        return self.L * math.cos(math.radians(tilt)) - press * self.L
-
     def _step(self, target: np.ndarray, heading: float, press: float, tilt: float) -> None:
         c, s = math.cos(heading), math.sin(heading)
         off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
                         s * self.offset_local[0] + c * self.offset_local[1]])
         root = target + off
-        pose = Pose((root[0], root[1], self._z(press, tilt)), tilt, math.degrees(heading))
+        z = root_height(self.shape, tilt, press)
+        pose = Pose((root[0], root[1], z), tilt, math.degrees(heading))
         stats = self.brush.step(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
         # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
@@ -199,10 +199,11 @@ class Writer:
         root = np.asarray(self.brush.skeleton()[0][:2])
         dist = float(np.linalg.norm(to_mm - root))
         n = int(np.clip(math.ceil(dist / (TRAVEL_STEP * st.step_mm)), *TRAVEL_FRAMES))
+        z_hover = root_height(self.shape, st.tilt_deg, -st.hover)
         for j in range(n):
             t = (j + 1) / n
             self.brush.step(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
-                                  self._z(-st.hover, st.tilt_deg)), st.tilt_deg, math.degrees(heading)))
+                                  z_hover), st.tilt_deg, math.degrees(heading)))
             self.paper.deposit(self.brush)
             self.frames += 1
 
