@@ -25,11 +25,11 @@ def assert_rel_close(name: str, got: np.ndarray, want: np.ndarray, rel: float) -
                              f"got {got.flat[k]:.9g}, want {want.flat[k]:.9g}")
 
 # rendering
-INK_AREA_REL = 0.02          # ink area vs the core's footprint polygon at 2048 px (issue 3)
+INK_AREA_REL = 0.02          # ink area vs the core's footprint polygon at 2048 px
 INK_CONSERVATION_REL = 0.01  # ink deposited vs ink lost by the brush
 MASK_IOU_RESOLUTION = 0.98   # 1024 px vs 4096 px downsampled
 MASK_THRESHOLD = 0.5         # ink coverage above which a pixel counts as inked
 MESH_INK_REL = 0.03          # ink of the default render mesh vs a 16 x 128 one at 1024 px (caps: -2.2%)
 MESH_L1_REL = 0.03           # its L1 ink error vs a 16 x 128 one, relative (2.3% measured, caps 1.6%: flattened sections are thin ellipses; 0.8% / 0.55% with round ones)
 FOOTPRINT_DIP = 0.1          # a static press may lose this fraction of area or width at one deeper step
-                             # (path-dependent buckling of the soft tail; issue 3 note)
+                             # (path-dependent buckling of the soft tail)
