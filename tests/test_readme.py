@@ -41,21 +41,6 @@ def test_python_block_runs_as_written(tmp_path, monkeypatch):
         assert (image < 128).mean() > 0.01, f"{name} should show ink"
 
 
-def test_restored_state_repeats_the_frame():
-    """The block's claim: after set_state, the next step repeats the saved frame bit for bit."""
-    import brushwork as bw
-
-    brush = bw.Brush(bw.BrushModel.preset("medium"))
-    poses = [bw.Pose(position=(0.2 * k, 0, 24 - 0.05 * k), tilt_deg=15) for k in range(30)]
-    for pose in poses[:10]:
-        brush.step(pose)
-    saved = brush.state()
-    first = [brush.step(p).energy for p in poses[10:]] + [brush.skeleton()]
-    brush.set_state(saved)
-    again = [brush.step(p).energy for p in poses[10:]] + [brush.skeleton()]
-    assert all(np.array_equal(a, b) for a, b in zip(first, again))
-
-
 def test_style_table_is_the_codes():
     found = re.search(r"<!-- style-table -->\n(.*?)<!-- /style-table -->", README, flags=re.S)
     assert found, "the README marks its style table"
