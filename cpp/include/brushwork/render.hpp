@@ -72,8 +72,9 @@ class RenderContext {
 // What a scene uses (DESIGN "scene.py").  Each feature off is neither computed on the CPU nor
 // compiled into the footprint shader (it becomes an absent #define).
 struct SceneFeatures {
-  bool split_map = false;    // seed "Fine bristle effect": alpha map on the tuft surface
-  bool dry_map = false;      // seed "Dry brush": grey map thresholded by moisture and pressure
+  bool split_map = false;    // seed "Fine bristle effect": the tip parts into bristle groups
+  bool dry_map = false;      // seed "Dry brush": bristle-clump field thresholded by moisture,
+                             // speed and pressure
   bool grain = false;        // seed "Grain texture": paper height field thresholded when dry
   bool soaked_tip = false;   // seed "Soaked brush": tip expanded, split map dilated, drains
   bool color_ramp = false;   // seed "Ink loading": colour gradient along the spine
@@ -84,13 +85,16 @@ struct SceneFeatures {
   double dry_pressure = 0.5;    // how much pressure closes the streaks again
   double grain_onset = 0.4;     // wetness below which paper grain shows
   double grain_pressure = 0.5;  // how much pressure presses ink into the grain's valleys
-  double grain_period_mm = 1.5; // size of one tile of the grain height field on the paper
+  double grain_mm = 0.25;       // mm: the size of the paper grain's features (its lattice cell)
+  double streak_mm = 0.3;       // mm: the width of a bristle streak across the stroke (split
+                                // and dry fields; the dry field runs 50 of them along the stroke)
+  double dry_speed = 0.0;       // dryness added per mm of the footprint's travel per deposit
   double soak_expand = 0.25;    // radial growth of the tip at full excess moisture (fraction)
   double soak_shift = 0.35;     // split map scaled toward the tip at full excess moisture
   double soak_drain_mm = 40.0;  // travel in contact over which excess moisture falls by 1/e
   double capillary = 0.2;       // depletion: fraction of the way each node's wetness moves
                                 // toward the tuft's mean per frame (ink flows to the tip)
-  std::uint32_t seed = 1;       // procedural maps (split, dry, grain)
+  std::uint32_t seed = 1;       // procedural fields (split, dry, grain)
   int mesh_rings = 6;           // rings per spine segment of the swept surface (at most)
   int mesh_around = 48;         // vertices around one ring (at most)
   double mesh_px = 6.0;         // px: the render mesh is as fine as this on the paper, no finer:
@@ -146,6 +150,7 @@ void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, 
 // paper
 
 class FootprintPass;  // internal
+class StrokeFrame;    // internal
 struct PaperTile;        // internal
 
 // A canvas of float ink: premultiplied RGBA, alpha = ink coverage.  Strokes go first into a
@@ -190,8 +195,11 @@ class Paper {
   // replace the paper by (H, W, 4) premultiplied RGBA, row 0 at the top (undo forgets)
   void write_rgba(const float* in);
 
-  // replace a procedural map by an image: "split" or "dry" (rows along the spine root->tip,
-  // cols around the tuft) or "grain" (one period of the paper's height field); values in [0, 1]
+  // replace a procedural field by an image, values in [0, 1]: "split" (rows along the spine
+  // root->tip, cols streak widths across the stroke: the alpha, repeating across), "dry" (the
+  // lattice values of the bristle-clump field, rows across the stroke, cols along it) or
+  // "grain" (the lattice values of the paper's height field, one per grain size); the image
+  // repeats on the paper
   void set_map(const std::string& which, const float* data, int rows, int cols);
 
   // for the brush view: the paper tile textures and, while a stroke is pending, its layer
@@ -228,6 +236,7 @@ class Paper {
   bool stroke_open_ = false, stroke_pending_ = false;
   const Brush* last_brush_ = nullptr;
   SweepFrame last_;
+  std::unique_ptr<StrokeFrame> frame_;  // the stroke frame of the split and dry fields
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom

@@ -55,6 +55,13 @@ MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double m
 // the brush's surface as the footprint pass draws it, the tip grown by `soak`
 SweepFrame sweep_frame(const Brush& brush, const MeshOptions& opt, double soak);
 
+// the depth-weighted sum over the part of a surface below the paper: w the sum of -z (0 when
+// nothing is below), (x, y) the sums of -z x and -z y (mm); the centre is (x / w, y / w)
+struct PartCentre {
+  double w = 0.0, x = 0.0, y = 0.0;
+};
+PartCentre part_centre(const std::vector<double>& placed);  // placed: (V, 3) mm
+
 // the plan from `last` (null: a stroke starts at `cur`) to `cur`, both of one mesh, on a paper of
 // `width_px` x `height_px` px sampled at `px_per_mm`
 SweepPlan plan_sweep(const SweepFrame* last, const SweepFrame& cur, double px_per_mm, int width_px,

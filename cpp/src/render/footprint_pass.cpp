@@ -46,7 +46,8 @@ FootprintPass::FootprintPass(RenderContext& ctx, const SceneFeatures& scene, boo
       {&u_nodes_, "u_nodes"},   {&u_wet_, "u_wet"},         {&u_press_, "u_press"},
       {&u_color_, "u_color"},   {&u_maps_[0], "u_split"},   {&u_maps_[1], "u_dry"},
       {&u_maps_[2], "u_grain"}, {&u_maps_[3], "u_ramp"},    {&u_soak_shift_, "u_soak_shift"},
-      {&u_dry_param_, "u_dry_param"}, {&u_grain_scale_, "u_grain_scale"}};
+      {&u_dry_param_, "u_dry_param"}, {&u_texture_, "u_texture"}, {&u_frame_, "u_frame"},
+      {&u_frame_s_, "u_frame_s"},     {&u_seed_, "u_seed"},       {&u_images_, "u_images"}};
   for (const auto& [loc, name] : uniforms) *loc = glu::uniform(prog_, name);
   // interleaved: prev (3), cur (3), centre prev (3), centre cur (3), uv (2) floats
   glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 3, 3, 2});
@@ -83,7 +84,7 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
   gl::Uniform1f(u_soak_shift_, static_cast<float>(in.soak_shift));
   gl::Uniform4f(u_dry_param_, static_cast<float>(scene_.dry_onset), static_cast<float>(scene_.dry_pressure),
                 static_cast<float>(scene_.grain_onset), static_cast<float>(scene_.grain_pressure));
-  gl::Uniform1f(u_grain_scale_, static_cast<float>(1.0 / scene_.grain_period_mm));
+  set_texture_uniforms(in);
   if (in.ramp != nullptr) {
     gl::BindTexture(GL_TEXTURE_2D, in.maps[3]);
     gl::TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, static_cast<GLsizei>(in.ramp->size()), 1, 0, GL_RGBA, GL_FLOAT,
@@ -96,6 +97,18 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
     gl::Uniform1i(u_maps_[u], u);
   }
   gl::ActiveTexture(GL_TEXTURE0);
+}
+
+void FootprintPass::set_texture_uniforms(const FootprintInputs& in) {
+  gl::Uniform4f(u_texture_, static_cast<float>(1.0 / scene_.streak_mm), static_cast<float>(1.0 / scene_.grain_mm),
+                static_cast<float>(scene_.dry_speed * in.speed), 0.0f);
+  gl::Uniform4f(u_frame_, in.frame[0], in.frame[1], in.frame[2], in.frame[3]);
+  gl::Uniform1f(u_frame_s_, static_cast<float>(in.frame_s));
+  gl::Uniform1i(u_seed_, static_cast<GLint>(scene_.seed));
+  int images = 0;  // bit u: map u (split, dry, grain) is an image
+  for (int u = 0; u < 3; ++u)
+    if (in.maps[u] != 0) images |= 1 << u;
+  gl::Uniform1i(u_images_, images);
 }
 
 void FootprintPass::set_state() {

@@ -23,7 +23,10 @@ struct FootprintInputs {
   const std::vector<std::array<float, 4>>* ramp = nullptr;  // root .. tip colours (colour ramp scenes)
   double soak = 0.0;              // soak_expand * excess moisture: the tip's growth
   double soak_shift = 0.0;        // soak_shift * excess moisture: the split map's shift to the tip
-  std::array<GLuint, 4> maps{{0, 0, 0, 0}};  // split, dry, grain, ramp textures (0: none)
+  std::array<GLuint, 4> maps{{0, 0, 0, 0}};  // split, dry, grain images, ramp texture (0: none)
+  std::array<float, 4> frame{{0, 0, 1, 0}};  // stroke frame: centre (mm), unit travel direction
+  double frame_s = 0.0;           // mm: the centre's travel along the stroke
+  double speed = 0.0;             // mm per deposit: the centre's move
 };
 
 // A tile of the stroke layer to draw into: its framebuffer, where it lies on the paper (px, y
@@ -52,6 +55,7 @@ class FootprintPass {
  private:
   void upload(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur);
   void set_uniforms(const FootprintInputs& in);
+  void set_texture_uniforms(const FootprintInputs& in);  // the split, dry and grain fields' part
   void set_state();
 
   SceneFeatures scene_;
@@ -66,7 +70,7 @@ class FootprintPass {
   GLsizeiptr vbo_bytes_ = 0, ibo_bytes_ = 0;
   GLint u_blends_ = -1, u_slides_ = -1, u_first_ = -1, u_shift_ = -1, u_view_ = -1, u_soak_ = -1;
   GLint u_nodes_ = -1, u_wet_ = -1, u_press_ = -1, u_color_ = -1, u_soak_shift_ = -1;
-  GLint u_dry_param_ = -1, u_grain_scale_ = -1;
+  GLint u_dry_param_ = -1, u_texture_ = -1, u_frame_ = -1, u_frame_s_ = -1, u_seed_ = -1, u_images_ = -1;
   std::array<GLint, 4> u_maps_{{-1, -1, -1, -1}};  // u_split, u_dry, u_grain, u_ramp
 };
 

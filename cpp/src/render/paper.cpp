@@ -14,9 +14,9 @@
 #include "checks.hpp"
 #include "footprint_pass.hpp"
 #include "gl_util.hpp"
-#include "maps.hpp"
 #include "render_mesh.hpp"
 #include "shaders.hpp"
+#include "stroke_frame.hpp"
 
 namespace brushwork {
 
@@ -32,9 +32,6 @@ struct PaperTile {
 
 namespace {
 
-// procedural maps: the split and dry maps' texels along the spine and around, the grain
-// field's texels a side (one grain period)
-constexpr int kSplitRows = 256, kSplitCols = 512, kGrainSize = 512;
 constexpr int kMaxPaperPx = 32768;  // px: the longest side of a paper
 constexpr int kMinTilePx = 16;      // px: the smallest tile side asked for
 constexpr int kMaxTilePx = 16384;   // px: the largest tile side asked for
@@ -72,7 +69,9 @@ void SceneFeatures::validate() const {
       {"scene.grain_onset", grain_onset, 0.0, 1.0, true, "0 < value <= 1"},
       {"scene.dry_pressure", dry_pressure, 0.0, 10.0, false, "0..10"},
       {"scene.grain_pressure", grain_pressure, 0.0, 10.0, false, "0..10"},
-      {"scene.grain_period_mm", grain_period_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.grain_mm", grain_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.streak_mm", streak_mm, 0.0, kAny, true, "a finite positive number"},
+      {"scene.dry_speed", dry_speed, 0.0, 10.0, false, "0..10"},
       {"scene.soak_drain_mm", soak_drain_mm, 0.0, kAny, true, "a finite positive number"},
       {"scene.soak_expand", soak_expand, 0.0, 2.0, false, "0..2"},
       {"scene.soak_shift", soak_shift, 0.0, 1.0, false, "0..1"},
@@ -152,20 +151,9 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   gl::VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 2 * sizeof(float), nullptr);
   gl::BindVertexArray(0);
 
-  // the maps this scene uses, and only those
-  if (scene_.split_map) {
-    const auto& a = maps::cached('s', kSplitRows, kSplitCols, scene_.seed, maps::split_map);
-    split_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, a.data(), true, GL_REPEAT);
-  }
-  if (scene_.dry_map) {
-    const auto& d = maps::cached('d', kSplitRows, kSplitCols, scene_.seed, maps::dry_map);
-    dry_tex_ = glu::texture(GL_R32F, kSplitCols, kSplitRows, GL_RED, GL_FLOAT, d.data(), true, GL_REPEAT);
-  }
-  if (scene_.grain) {
-    const auto& g = maps::cached('g', kGrainSize, kGrainSize, scene_.seed,
-                                 [](int n, int, std::uint32_t seed) { return maps::grain_map(n, seed); });
-    grain_tex_ = glu::texture(GL_R32F, kGrainSize, kGrainSize, GL_RED, GL_FLOAT, g.data(), true, GL_REPEAT);
-  }
+  // the split, dry and grain fields are procedural (in the footprint shader) until an image
+  // replaces one (set_map)
+  frame_ = std::make_unique<StrokeFrame>();
   if (scene_.color_ramp)
     ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
   glu::check("paper set-up");
@@ -341,6 +329,7 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   }
   if (!continues) {
     flush_stroke();
+    frame_->start();
     stats.new_stroke = true;
     stroke_rect_ = {0, 0, 0, 0};
   }
@@ -371,6 +360,11 @@ void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Sweep
   in.soak = cur.soak;
   in.soak_shift = scene_.soak_shift * excess;
   in.maps = {split_tex_, dry_tex_, grain_tex_, ramp_tex_};
+  frame_->advance(cur.placed);
+  in.frame = {static_cast<float>(frame_->cx), static_cast<float>(frame_->cy), static_cast<float>(frame_->dx),
+              static_cast<float>(frame_->dy)};
+  in.frame_s = frame_->s;
+  in.speed = frame_->speed;
   program_->begin(plan, last, cur, in, ppm_);
   for_tiles(plan.rect, true, [&](PaperTile& t, int x, int y, int w, int h) {
     program_->draw(plan, LayerTile{t.layer_fbo, t.x0, t.y0, t.w, t.h, x, y, w, h});

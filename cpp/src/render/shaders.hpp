@@ -26,6 +26,14 @@ uniform float u_soak;   // soak_expand * excess moisture
 out vec2 v_uv;
 out float v_z;
 out vec2 v_mm;
+#if defined(USE_SPLIT) || defined(USE_DRY)
+// the stroke frame: paper mm along the path of the footprint's centre and across it, so that a
+// point of the paper keeps its coordinates from one deposit to the next and streaks follow the
+// stroke (the frame turns with the travel; its along coordinate goes on from deposit to deposit)
+uniform vec4 u_frame;   // (centre x mm, centre y mm, unit travel direction x, y)
+uniform float u_frame_s;  // mm the centre has travelled since the stroke began
+out vec2 v_st;          // (along, across) mm
+#endif
 #if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
 // wetness and pressure per spine node, interpolated here at the vertex's s: the rings include
 // every node (s = i / n), so no triangle straddles one and the linear interpolation across the
@@ -68,6 +76,10 @@ void main() {
 #endif
   v_z = p.z;
   v_mm = p.xy;
+#if defined(USE_SPLIT) || defined(USE_DRY)
+  vec2 r = p.xy - u_frame.xy;
+  v_st = vec2(u_frame_s + dot(r, u_frame.zw), dot(r, vec2(-u_frame.w, u_frame.z)));
+#endif
   gl_Position = vec4((p.xy - u_view.xy) * u_view.zw - 1.0, 0.0, 1.0);
 }
 )";
@@ -80,15 +92,60 @@ in vec2 v_mm;
 in float v_wet;               // wetness of the spine at this fragment's s, [0, 1]
 in float v_press;             // pressure, [0, 1]
 #endif
+#if defined(USE_SPLIT) || defined(USE_DRY)
+in vec2 v_st;                 // stroke frame (along, across), mm
+#endif
 uniform vec4 u_color;         // straight RGBA of the ink (no ramp)
-uniform sampler2D u_split;    // (around, along) alpha
-uniform sampler2D u_dry;      // (around, along) grey
-uniform sampler2D u_grain;    // paper height field, repeats every grain period
+uniform sampler2D u_split;    // an image for the split map: (across cells, along the spine) alpha
+uniform sampler2D u_dry;      // an image of the dry map's lattice values (across, along)
+uniform sampler2D u_grain;    // an image of the grain's lattice values (x, y)
 uniform sampler2D u_ramp;     // (along, -) straight RGBA
 uniform float u_soak_shift;   // soak_shift * excess moisture
 uniform vec4 u_dry_param;     // dry onset, dry pressure, grain onset, grain pressure
-uniform float u_grain_scale;  // 1 / grain period, 1/mm
+uniform vec4 u_texture;       // 1 / streak width (1/mm), 1 / grain size (1/mm), dryness from speed, -
+uniform int u_seed;           // seed of the procedural fields
+uniform int u_images;         // bits 1, 2, 4: the split, dry, grain fields come from images
 out vec4 o_color;
+
+#if defined(USE_SPLIT) || defined(USE_DRY) || defined(USE_GRAIN)
+// The maps are procedural fields on the paper, in mm (seed "Fine bristle effect", "Dry brush",
+// "Grain texture"): value noise over an integer lattice whose values are a hash of the cell, so
+// they never repeat and the output's resolution only samples them; an image given for a map
+// replaces the hash by its texels (one per lattice cell, repeating)
+float hash01(ivec2 c, int salt) {
+  // pcg3d (Jarzynski and Olano 2020), 24 bits of the first component
+  uvec3 v = uvec3(uint(c.x), uint(c.y), uint(salt) ^ (uint(u_seed) * 0x9E3779B9u));
+  v = v * 1664525u + 1013904223u;
+  v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+  v ^= v >> 16u;
+  v.x += v.y * v.z; v.y += v.z * v.x; v.z += v.x * v.y;
+  return float(v.x >> 8u) * (1.0 / 16777216.0);
+}
+float lattice(ivec2 c, int salt, sampler2D image, bool own) {
+  if (!own) return hash01(c, salt);
+  ivec2 n = textureSize(image, 0);
+  return texelFetch(image, c - n * ivec2(floor(vec2(c) / vec2(n))), 0).r;
+}
+// smooth value noise at x (lattice cells), in [0, 1]
+float value_noise(vec2 x, int salt, sampler2D image, bool own) {
+  vec2 i = floor(x), f = x - i, u = f * f * (3.0 - 2.0 * f);
+  ivec2 c = ivec2(i);
+  float a = lattice(c, salt, image, own), b = lattice(c + ivec2(1, 0), salt, image, own);
+  float d = lattice(c + ivec2(0, 1), salt, image, own), e = lattice(c + ivec2(1, 1), salt, image, own);
+  return mix(mix(a, b, u.x), mix(d, e, u.x), u.y);
+}
+// the two octaves' sum spread back over [0, 1] (value noise crowds the middle): thresholding
+// at t then keeps about the fraction 1 - t
+float spread(float n) {
+  float x = clamp((n - 0.5) * 1.9, -1.0, 1.0);
+  return 0.5 + 0.5 * x * (1.5 - 0.5 * x * x);
+}
+// the fraction of the pixel where the field f lies above the threshold t (the step filtered
+// over the pixel's footprint: the same coverage at any resolution)
+float above(float f, float t) {
+  return clamp((f - t) / max(fwidth(f), 1e-4) + 0.5, 0.0, 1.0);
+}
+#endif
 
 void main() {
   // coverage of the pixel by the part below the paper: the footprint's edge is where the
@@ -104,9 +161,31 @@ void main() {
 #endif
   vec3 rgb = ink.rgb;
   a *= ink.a;
+#if defined(USE_SPLIT) || defined(USE_DRY)
+  // the stroke frame in streak widths: across wanders slowly along the stroke, as hairs do
+  const float kDryAlong = 1.0 / 50.0;  // streak widths along the stroke per lattice cell, over one
+  vec2 st = v_st * u_texture.x;
+  float across = st.y + 0.6 * value_noise(vec2(st.x * kDryAlong, 0.5), 7, u_split, false);
+#endif
 #ifdef USE_SPLIT
-  // seed "Fine bristle effect": the split map, scaled toward the tip while soaked
-  a *= texture(u_split, vec2(v_uv.y, s * (1.0 - u_soak_shift))).r;
+  // seed "Fine bristle effect": the tip parts into bristle groups.  The split map is a set of
+  // gaps across the stroke, one lattice cell in four a gap that opens at its own point s0 along
+  // the spine and widens toward the tip; only where the tip alone touches do they stay white
+  // (any deposit of the belly over a point inks it).  Scaled toward the tip while soaked.
+  float sp = s * (1.0 - u_soak_shift);
+  if ((u_images & 1) != 0) {
+    a *= texture(u_split, vec2(across / float(textureSize(u_split, 0).x), sp)).r;
+  } else {
+    ivec2 cell = ivec2(int(floor(across)), 0);
+    float s0 = 0.45 + 0.45 * hash01(cell, 11);
+    float half_tip = hash01(cell, 12) < 0.25 ? 0.1 + 0.3 * hash01(cell, 13) : 0.0;
+    float half_w = half_tip * pow(clamp((sp - s0) / (1.0 - s0), 0.0, 1.0), 0.7);
+    // the gap's coverage of the pixel: its edges filtered over the pixel, and a gap narrower
+    // than the pixel in proportion to its width
+    float fw = max(fwidth(across), 1e-4);
+    float gap = clamp((half_w - abs(fract(across) - 0.5)) / fw + 0.5, 0.0, 1.0) * clamp(2.0 * half_w / fw, 0.0, 1.0);
+    a *= 1.0 - gap;
+  }
 #endif
 #if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
   float wet = v_wet;
@@ -115,15 +194,25 @@ void main() {
   float press = v_press;
 #endif
 #ifdef USE_DRY
-  // seed "Dry brush": only the peaks of the bristle height field touch a dry brush; the
-  // threshold rises as the node dries and falls with pressure
-  float td = clamp((u_dry_param.x - wet) / u_dry_param.x - u_dry_param.y * press, 0.0, 1.0);
-  if (td > 0.0) a *= smoothstep(td, td + 0.04, texture(u_dry, vec2(v_uv.y, s)).r);
+  // seed "Dry brush": only the peaks of the bristles' height field touch a dry brush; the
+  // threshold rises as the node dries and as the brush moves faster, and falls with pressure.
+  // The field: bristle clumps a streak wide across, long along the stroke
+  // (the field and its coverage outside any branch: fwidth needs the neighbouring pixels')
+  float td = clamp(1.0 - wet / u_dry_param.x + u_texture.z - u_dry_param.y * press, 0.0, 1.0);
+  bool own_dry = (u_images & 2) != 0;
+  float hd = spread(0.65 * value_noise(vec2(st.x * kDryAlong, across), 3, u_dry, own_dry) +
+                    0.35 * value_noise(vec2(st.x * (3.0 * kDryAlong), across * 2.3), 5, u_dry, own_dry));
+  float cd = above(hd, td);
+  if (td > 0.0) a *= cd;
 #endif
 #ifdef USE_GRAIN
   // seed "Grain texture": the paper's valleys stay white under a rather dry brush
-  float tg = clamp((u_dry_param.z - wet) / u_dry_param.z - u_dry_param.w * press, 0.0, 1.0);
-  if (tg > 0.0) a *= smoothstep(tg, tg + 0.05, texture(u_grain, v_mm * u_grain_scale).r);
+  float tg = clamp(1.0 - wet / u_dry_param.z + u_texture.z - u_dry_param.w * press, 0.0, 1.0);
+  bool own_grain = (u_images & 4) != 0;
+  vec2 g = v_mm * u_texture.y;
+  float hg = spread(0.6 * value_noise(g, 1, u_grain, own_grain) + 0.4 * value_noise(g * 2.7, 2, u_grain, own_grain));
+  float cg = above(hg, tg);
+  if (tg > 0.0) a *= cg;
 #endif
 #ifdef USE_DEPLETION
   // an emptied node gives less ink: full density down to 10 % of its load, then to nothing

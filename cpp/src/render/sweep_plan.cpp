@@ -9,6 +9,18 @@
 
 namespace brushwork {
 
+PartCentre part_centre(const std::vector<double>& p) {
+  PartCentre c;
+  for (std::size_t v = 0; v < p.size() / 3; ++v) {
+    const double z = p[3 * v + 2];
+    if (z >= 0.0) continue;
+    c.w -= z;
+    c.x -= z * p[3 * v];
+    c.y -= z * p[3 * v + 1];
+  }
+  return c;
+}
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -101,24 +113,6 @@ FaceSets sort_faces(const SweepFrame& last, const SweepFrame& cur, const std::ve
   fs.near = fs.sweep.size();
   fs.sweep.insert(fs.sweep.end(), inner_all.begin(), inner_all.end());
   return fs;
-}
-
-// the depth-weighted centre of the part of a surface below the paper: (x, y) mm and the weight
-// sum of -z (0 when nothing is below)
-struct PartCentre {
-  double w = 0.0, x = 0.0, y = 0.0;
-};
-
-PartCentre part_centre(const std::vector<double>& p) {
-  PartCentre c;
-  for (std::size_t v = 0; v < p.size() / 3; ++v) {
-    const double z = p[3 * v + 2];
-    if (z >= 0.0) continue;
-    c.w -= z;
-    c.x -= z * p[3 * v];
-    c.y -= z * p[3 * v + 1];
-  }
-  return c;
 }
 
 // Widths across the move of the footprint's centre (mm) of the surface blended between the two
