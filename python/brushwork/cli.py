@@ -8,6 +8,7 @@
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
+    brushwork bench texture [--chars TEXT] [--size 512] [--json FILE]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -384,6 +385,22 @@ def _fuzz(args: argparse.Namespace) -> int:
     return rc
 
 
+# bench texture
+def _texture_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--chars", default="永和九年", help="characters of the exits measure (default 永和九年)")
+    p.add_argument("--size", type=int, default=512, help="px per character, 64..2048 (default 512)")
+
+
+def _texture(args: argparse.Namespace) -> int:
+    from .bench import texture
+
+    if not 64 <= args.size <= 2048 or not args.chars.strip():
+        raise ValueError(f"--size {args.size} --chars {args.chars!r}: expected 64..2048 px and some characters")
+    return _report("texture", args, lambda: texture.run("".join(args.chars.split()), args.size, _progress),
+                   texture.table)
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -397,6 +414,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
     "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
              _fuzz_args, _fuzz),
+    "texture": ("dry-brush streaks at exits (xing vs kai), repeats of the texture, agreement across resolutions",
+                _texture_args, _texture),
 }
 
 
