@@ -360,7 +360,8 @@ void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Sweep
   in.soak = cur.soak;
   in.soak_shift = scene_.soak_shift * excess;
   in.maps = {split_tex_, dry_tex_, grain_tex_, ramp_tex_};
-  frame_->advance(cur.placed);
+  const auto root = brush.skeleton();
+  frame_->advance(cur.placed, root(0, 0), root(0, 1));
   in.frame = {static_cast<float>(frame_->cx), static_cast<float>(frame_->cy), static_cast<float>(frame_->dx),
               static_cast<float>(frame_->dy)};
   in.frame_s = frame_->s;
