@@ -100,8 +100,18 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
 }
 
 void FootprintPass::set_texture_uniforms(const FootprintInputs& in) {
+  // the shader's thresholds are linear in wetness and pressure, interpolated between the nodes:
+  // their largest value over the surface is at a node
+  const double from_speed = scene_.dry_speed * in.speed;
+  auto opens = [&](double onset, double pressure) {
+    for (std::size_t i = 0; i < in.wet.size(); ++i)
+      if (1.0 - in.wet[i] / onset + from_speed - pressure * in.pressure[i] > 0.0) return true;
+    return false;
+  };
+  const int dry = (scene_.dry_map && opens(scene_.dry_onset, scene_.dry_pressure)) ? 1 : 0;
+  const int grain = (scene_.grain && opens(scene_.grain_onset, scene_.grain_pressure)) ? 2 : 0;
   gl::Uniform4f(u_texture_, static_cast<float>(1.0 / scene_.streak_mm), static_cast<float>(1.0 / scene_.grain_mm),
-                static_cast<float>(scene_.dry_speed * in.speed), 0.0f);
+                static_cast<float>(from_speed), static_cast<float>(dry | grain));
   gl::Uniform4f(u_frame_, in.frame[0], in.frame[1], in.frame[2], in.frame[3]);
   gl::Uniform1f(u_frame_s_, static_cast<float>(in.frame_s));
   gl::Uniform1i(u_seed_, static_cast<GLint>(scene_.seed));

@@ -102,7 +102,9 @@ uniform sampler2D u_grain;    // an image of the grain's lattice values (x, y)
 uniform sampler2D u_ramp;     // (along, -) straight RGBA
 uniform float u_soak_shift;   // soak_shift * excess moisture
 uniform vec4 u_dry_param;     // dry onset, dry pressure, grain onset, grain pressure
-uniform vec4 u_texture;       // 1 / streak width (1/mm), 1 / grain size (1/mm), dryness from speed, -
+uniform vec4 u_texture;       // 1 / streak width (1/mm), 1 / grain size (1/mm), dryness from speed,
+                              // bits 1, 2: some node of this deposit is dry enough to open the dry
+                              // field, the grain (a branch the whole draw takes alike)
 uniform int u_seed;           // seed of the procedural fields
 uniform int u_images;         // bits 1, 2, 4: the split, dry, grain fields come from images
 out vec4 o_color;
@@ -197,22 +199,27 @@ void main() {
   // seed "Dry brush": only the peaks of the bristles' height field touch a dry brush; the
   // threshold rises as the node dries and as the brush moves faster, and falls with pressure.
   // The field: bristle clumps a streak wide across, long along the stroke
-  // (the field and its coverage outside any branch: fwidth needs the neighbouring pixels')
-  float td = clamp(1.0 - wet / u_dry_param.x + u_texture.z - u_dry_param.y * press, 0.0, 1.0);
-  bool own_dry = (u_images & 2) != 0;
-  float hd = spread(0.65 * value_noise(vec2(st.x * kDryAlong, across), 3, u_dry, own_dry) +
-                    0.35 * value_noise(vec2(st.x * (3.0 * kDryAlong), across * 2.3), 5, u_dry, own_dry));
-  float cd = above(hd, td);
-  if (td > 0.0) a *= cd;
+  // (the field and its coverage outside any per-fragment branch: fwidth needs the neighbouring
+  // pixels')
+  if ((int(u_texture.w) & 1) != 0) {
+    float td = clamp(1.0 - wet / u_dry_param.x + u_texture.z - u_dry_param.y * press, 0.0, 1.0);
+    bool own_dry = (u_images & 2) != 0;
+    float hd = spread(0.65 * value_noise(vec2(st.x * kDryAlong, across), 3, u_dry, own_dry) +
+                      0.35 * value_noise(vec2(st.x * (3.0 * kDryAlong), across * 2.3), 5, u_dry, own_dry));
+    float cd = above(hd, td);
+    if (td > 0.0) a *= cd;
+  }
 #endif
 #ifdef USE_GRAIN
   // seed "Grain texture": the paper's valleys stay white under a rather dry brush
-  float tg = clamp(1.0 - wet / u_dry_param.z + u_texture.z - u_dry_param.w * press, 0.0, 1.0);
-  bool own_grain = (u_images & 4) != 0;
-  vec2 g = v_mm * u_texture.y;
-  float hg = spread(0.6 * value_noise(g, 1, u_grain, own_grain) + 0.4 * value_noise(g * 2.7, 2, u_grain, own_grain));
-  float cg = above(hg, tg);
-  if (tg > 0.0) a *= cg;
+  if ((int(u_texture.w) & 2) != 0) {
+    float tg = clamp(1.0 - wet / u_dry_param.z + u_texture.z - u_dry_param.w * press, 0.0, 1.0);
+    bool own_grain = (u_images & 4) != 0;
+    vec2 g = v_mm * u_texture.y;
+    float hg = spread(0.6 * value_noise(g, 1, u_grain, own_grain) + 0.4 * value_noise(g * 2.7, 2, u_grain, own_grain));
+    float cg = above(hg, tg);
+    if (tg > 0.0) a *= cg;
+  }
 #endif
 #ifdef USE_DEPLETION
   // an emptied node gives less ink: full density down to 10 % of its load, then to nothing
