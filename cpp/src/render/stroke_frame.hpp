@@ -18,13 +18,14 @@ class StrokeFrame {
   void advance(const std::vector<double>& placed, double root_x, double root_y);
 
   double cx = 0.0, cy = 0.0;  // mm: the origin, on the path of the footprint's depth-weighted centre
-  double dx = 1.0, dy = 0.0;  // the unit direction of the root's travel, smoothed over kTurnMm
+  double dx = 1.0, dy = 0.0;  // the unit direction of the centre's travel, smoothed over kTurnMm
   double s = 0.0;             // mm the centre has travelled along the stroke
-  double speed = 0.0;         // mm per deposit: the centre's move, smoothed over two deposits
+  double speed = 0.0;         // mm per deposit: the centre's move (jumps capped), smoothed over two deposits
 
  private:
   bool placed_ = false;       // (cx, cy) holds a centre of this stroke
-  double mx = 0.0, my = 0.0;  // mm: the root's recent moves, the older fading (their sum gives d)
+  double mx = 0.0, my = 0.0;  // mm: the centre's recent moves, the older fading (their sum gives d)
+  double last_x_ = 0.0, last_y_ = 0.0;  // mm: the footprint's centre on the last deposit
   double root_x_ = 0.0, root_y_ = 0.0;  // mm: the root on the last deposit
 };
 
