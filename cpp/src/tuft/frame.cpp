@@ -273,6 +273,7 @@ bool arrays_fit(const Tuft& t, const BrushState& s) {
   const int node_arrays[] = {size(s.p), size(s.c_prev), size(s.wetness), size(s.txy)};
   for (int k : node_arrays)
     if (k != n + 1) return false;
+  if (s.ink.loaded() && (size(s.ink.load) != n + 1 || size(s.ink.capacity) != n + 1)) return false;
   return s.x.size() == t.nx && s.x_prev.size() == t.nx && s.rest.size() == t.nx &&
          s.lambda.size() == t.mmax && s.R_relaxed.size() == n && size(s.prev_pts) == 3 * (n + 1) &&
          size(s.R) == 3 * (n + 1);
