@@ -56,7 +56,8 @@ struct BrushModel {
   bool pore_resistance = true;          // blocking plane ahead of the tip
 
   // --- solver (seed "Real-time simulation") ---
-  int q_max = 20;                       // SQP iterations per frame
+  int q_max = 40;                       // SQP iterations per frame
+  int newton_after = 8;                 // BFGS iterations of a frame before H is set once from the Lagrangian's Hessian (0: never)
   double tolerance = 1e-5;              // KKT residual (scaled, see kkt_residual) to stop
   bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
 
