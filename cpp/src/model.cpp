@@ -75,7 +75,7 @@ const std::vector<ParamSlot>& slots() {
       F("friction_side", "-", 0.0, 5.0, &BrushModel::friction_side,
         "external friction mu for drag across the hairs"),
       F("wet_adhesion", "N", 0.0, 10.0, &BrushModel::wet_adhesion,
-        "added to R_i per unit p_i of a wet node (friction with zero normal force)"),
+        "pull toward the paper per unit p_i of a wet node in contact"),
       F("contact_relaxation", "-", 0.01, 1.0, &BrushModel::contact_relaxation,
         "omega: the normal reaction R_i of the friction moves this fraction of the way to last "
         "frame's contact force each frame (1: the seed's lagged force; below 1 damps stick-slip)"),

@@ -100,6 +100,7 @@ struct BrushState {
   int m = 0;                           // constraints in this frame's problem
   int contacts = 0;                    // nodes (spine + lateral) in the contact set
   std::vector<double> R;               // (3(n+1)) N, normal force of each node in contact, else 0
+  std::vector<double> pull;            // (3(n+1)) N, wet adhesion pulling each node in contact down
   std::vector<Vec2> txy;               // (n+1) unnormalised horizontal projection of the segment above node i
   bool pore_on = false;                // the blocking plane is in this frame's problem
   bool pore_on_prev = false;           // it was in last frame's problem
