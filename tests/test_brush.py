@@ -299,10 +299,10 @@ def test_a_restored_state_replays_the_same_frames_bit_for_bit():
     saved = b.state()
     # a pressed, moving, tilted path: the rest of the press, then a drag that rocks and turns
     # the handle
-    drag = pressed_drag(m, frames=80, press=0.2, tilt_deg=25.0, azimuth_deg=20.0)[20:]
+    drag = pressed_drag(m, frames=100, press=0.2, tilt_deg=25.0, azimuth_deg=20.0)[20:]
     path = lead[20:] + [bw.Pose(p.position, 25.0 + 5.0 * math.sin(k / 8.0), 20.0 + 2.0 * k)
                         for k, p in enumerate(drag)]
-    assert len(path) == 80
+    assert len(path) == 100
     first = _trace(b, path)
     assert sum(len(f[1]) > 0 for f in first) > len(path) // 2, "the path presses the brush"
     b.set_state(saved)

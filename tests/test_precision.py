@@ -64,7 +64,7 @@ def test_exactly_one_default_and_json_keys(result, tmp_path):
     for r in rows:
         assert REQUIRED_KEYS <= set(r), set(REQUIRED_KEYS) - set(r)
     d = next(r for r in rows if r["default"])
-    assert d["setting"] == precision.default_label() and "q_max=20" in d["setting"]
+    assert d["setting"] == precision.default_label() and f"q_max={bw.BrushModel().q_max}" in d["setting"]
     assert isinstance(data["front"]["on_front"], bool)
 
 

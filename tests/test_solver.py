@@ -51,16 +51,17 @@ def test_no_accepted_step_raises_the_merit_and_converged_frames_meet_tolerance()
             steps += 1
         if s.converged:
             converged += 1
-            assert s.kkt_residual <= m.tolerance
+            # (a pose held still sleeps within 10x the tolerance: the core's sleep rule)
+            assert s.kkt_residual <= (10.0 if s.status == "no motion" else 1.0) * m.tolerance
         else:
             assert s.kkt_residual > m.tolerance
     assert steps > 300 and converged > 160
 
 
 def test_carried_hessian_needs_fewer_iterations_than_a_fresh_one():
-    # seed Table 1: 7.4 iterations with the carried L_xx against 14.6 without, at q_max 20
-    m = bw.BrushModel.preset("medium")
-    assert m.q_max == 20
+    # seed Table 1: 7.4 iterations with the carried L_xx against 14.6 without, at q_max 20 (the
+    # seed's plain BFGS: no Newton refresh of H)
+    m = bw.BrushModel.preset("medium").replace(q_max=20, newton_after=0)
     poses = press_drag_turn_lift(m, 320)
     assert len(poses) >= 300
     carried = mean_iterations(m, poses, warm_hessian=True)
@@ -87,3 +88,30 @@ def test_iteration_cap_is_graceful():
     assert all(s.iterations <= s.substeps for s in stats), "q_max per (sub-)step"
     assert any(not s.converged and s.status == "iteration cap" for s in stats)
     assert all(np.isfinite(s.energy) for s in stats) and np.isfinite(b.skeleton()).all()
+
+
+@pytest.mark.parametrize("kind", ["travel", "press"])
+def test_a_split_frame_is_its_sub_steps_taken_one_by_one(kind):
+    """A frame whose root jumps far (travel > L/8 while touching) or whose first iterate sinks deep
+    (> 2% of L) is split into sub-steps at poses interpolated from the last one. The set-up it
+    discards leaves no trace (the lagged contact forces R_i and proportions p_i, relaxed once per
+    set-up, included): the split frame ends exactly where a twin brush stepped through the same
+    sub-step poses ends."""
+    m = bw.BrushModel.preset("medium")
+    L = m.tuft_length
+    split, twin = bw.Brush(m), bw.Brush(m)
+    poses = pressed_drag(m, frames=40, press=0.2, tilt_deg=25.0, azimuth_deg=0.0)
+    replay(split, poses)
+    replay(twin, poses)
+    last = poses[-1]
+    x0, y0, z0 = last.position
+    to = (x0 + 0.5 * L, y0, z0) if kind == "travel" else (x0, y0, z0 - 0.15 * L)
+    s = split.step(bw.Pose(to, last.tilt_deg, last.azimuth_deg))
+    assert s.substeps >= 3 and s.contacts > 0, (s.substeps, s.contacts)
+    for k in range(1, s.substeps + 1):
+        t = k / s.substeps
+        p = tuple(a + t * (b - a) for a, b in zip((x0, y0, z0), to)) if k < s.substeps else to
+        ts = twin.step(bw.Pose(p, last.tilt_deg, last.azimuth_deg))
+        assert ts.substeps == 1, (k, ts.substeps)
+    assert np.array_equal(split.full_state(), twin.full_state())
+    assert np.array_equal(split.skeleton(), twin.skeleton())

@@ -15,7 +15,7 @@ def rows():
 
 NAMED = ["stiffness 1e2 m=2", "stiffness 1e4 m=2", "stiffness 1e2 m=3", "stiffness 1e4 m=3",
          "press 1.5 L below contact", "drag 1 L per frame", "exactly vertical", "tilt 1e-8 deg",
-         "tilt 85 deg", "straight start", "1000 frames without motion"]
+         "tilt 85 deg", "straight start", "1000 frames without motion", "random extreme jumps"]
 
 
 @pytest.mark.parametrize("case", NAMED)

@@ -80,7 +80,7 @@ void bind_state(py::module_& m) {
   py::class_<BrushState>(m, "BrushState", R"doc(
 Everything that changes as a brush moves (degrees of freedom, last frame's values, plastic rest
 angles, multipliers, the carried BFGS matrix, the contact set, the pore plane, the pose, the
-wetness, the last step's statistics), as one opaque value.  Brush.state() returns a copy;
+wetness and the ink, the last step's statistics), as one opaque value.  Brush.state() returns a copy;
 Brush.set_state(state) puts it back, and the brush then moves on bit for bit as it did from
 that moment.)doc")
       .def("copy", [](const BrushState& s) { return BrushState(s); }, "an independent copy")
@@ -172,6 +172,9 @@ void bind_brush_class(py::module_& m) {
       .def("state", &Brush::state, "a copy of the whole mutable state (BrushState)")
       .def("set_state", &Brush::set_state, py::arg("state"),
            "put back a state from state(); ValueError if it belongs to a brush of another shape")
+      .def("_ink", py::overload_cast<>(&Brush::ink), py::return_value_policy::reference_internal,
+           "the brush's own ink (a view into its state; empty until loaded)")
+      .def("_set_ink", &Brush::set_ink, py::arg("ink"))
       .def_property(
           "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness()); }, &set_wetness);
   bind_frame_problem(c);

@@ -60,6 +60,11 @@ void Brush::set_state(const BrushState& s) {
   kinematics(tuft_, state_, state_.x, ws_);
 }
 
+void Brush::set_ink(const Ink& ink) {
+  ink.validate(tuft_.n + 1);
+  state_.ink = ink;
+}
+
 void Brush::prepare(const Pose& pose) { prepare_frame(tuft_, state_, pose, ws_); }
 
 // ---------------------------------------------------------------------------------------------

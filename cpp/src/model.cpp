@@ -75,7 +75,7 @@ const std::vector<ParamSlot>& slots() {
       F("friction_side", "-", 0.0, 5.0, &BrushModel::friction_side,
         "external friction mu for drag across the hairs"),
       F("wet_adhesion", "N", 0.0, 10.0, &BrushModel::wet_adhesion,
-        "added to R_i per unit p_i of a wet node (friction with zero normal force)"),
+        "pull toward the paper per unit p_i of a wet node in contact"),
       F("contact_relaxation", "-", 0.01, 1.0, &BrushModel::contact_relaxation,
         "omega: the normal reaction R_i of the friction moves this fraction of the way to last "
         "frame's contact force each frame (1: the seed's lagged force; below 1 damps stick-slip)"),
@@ -95,6 +95,9 @@ const std::vector<ParamSlot>& slots() {
       B("pore_resistance", &BrushModel::pore_resistance,
         "blocking plane ahead of a touching tip"),
       I("q_max", "-", 1, 100000, &BrushModel::q_max, "SQP iterations per frame"),
+      I("newton_after", "-", 0, 100000, &BrushModel::newton_after,
+        "iterations of a frame's SQP after which, not yet converged, H is set once from the "
+        "Lagrangian's Hessian by differences of its gradient (0: never)"),
       F("tolerance", "-", 1e-14, 1e-1, &BrushModel::tolerance,
         "scaled KKT residual at which a frame's solve stops"),
       B("warm_hessian", &BrushModel::warm_hessian,

@@ -48,15 +48,6 @@ Pose substep_pose(const Pose& from, const Pose& to, int k, int substeps) {
   return p;
 }
 
-// the state as it was before a discarded frame set-up, except the relaxed normal reactions R
-// and proportions p, which keep that set-up's relaxation (the first sub-step relaxes them again)
-void restore(BrushState& s, const BrushState& saved) {
-  const VecX R_relaxed = s.R_relaxed, p = s.p;
-  s = saved;
-  s.R_relaxed = R_relaxed;
-  s.p = p;
-}
-
 // set the frame up once; if its first iterate sinks too deep (or the root travels too far
 // while touching), put the state back and return the number of sub-steps, with `from` the
 // pose they start at.  A single step stays set up.
@@ -72,7 +63,7 @@ int plan_substeps(const Tuft& t, BrushState& s, const Pose& pose, Workspace& w, 
   const double pen = max_penetration(t, w);
   const int substeps = std::max(pieces(pen, kPressPerStep * L), travel_steps);
   if (substeps == 1) return 1;
-  restore(s, w.saved);
+  s = w.saved;  // the discarded set-up leaves no trace (it relaxed R and p once already)
   // a fresh (or reset) brush has no last pose: it comes down from straight above
   if (!s.have_prev_positions) {
     from = pose;

@@ -17,9 +17,8 @@ class Brush(_core.Brush):
     root first, in mm; ``footprint()`` a list of (k, 2) polygons on the paper (mm, outer loops
     counter-clockwise, holes clockwise); ``footprint_area()`` their area in mm^2; ``reset()``
     straightens the brush and forgets plasticity.  ``state()`` copies everything that moves (an
-    opaque `BrushState`, with ``copy()``) and ``set_state(state)`` puts it back (ValueError for a
-    state of a brush of another shape): the brush then replays bit for bit.  The ink is not part of
-    it (see `ink`).
+    opaque `BrushState`, with ``copy()``, the ink included) and ``set_state(state)`` puts it back
+    (ValueError for a state of a brush of another shape): the brush then replays bit for bit.
     """
 
     def __init__(self, model: _core.BrushModel | str = "medium"):
@@ -29,16 +28,17 @@ class Brush(_core.Brush):
 
     @property
     def ink(self) -> _core.Ink:
-        """The ink on this brush, full on first use (see `load_ink`)."""
-        if getattr(self, "_ink", None) is None:
-            m = self.model
-            self._ink = _core.Ink(self, self.default_ink_mm2())
-        return self._ink
+        """The ink on this brush, part of its state: a live view, full on first use (see
+        `load_ink`)."""
+        ink = self._ink()
+        if ink.load.size == 0:
+            self._set_ink(_core.Ink(self, self.default_ink_mm2()))
+            ink = self._ink()
+        return ink
 
     @ink.setter
     def ink(self, value: _core.Ink) -> None:
-        value.validate(self.model.n_segments + 1)
-        self._ink = value
+        self._set_ink(value)
 
     def load_ink(self, total_mm2: float | None = None, ramp=None, excess: float = 1.0) -> _core.Ink:
         """Dip the brush: full ink (`total_mm2` of paper at full density; default 2 pi r^2 L
@@ -50,20 +50,15 @@ class Brush(_core.Brush):
         if ramp is not None:
             ink.ramp = [tuple(float(c) for c in rgba) for rgba in ramp]
         ink.excess = float(excess)
-        self._ink = ink
+        self._set_ink(ink)
         self.wetness = np.ones(m.n_segments + 1)
-        return ink
+        return self._ink()
 
     def copy(self) -> "Brush":
         """An independent brush in exactly this state (the next step() of both agrees bit for
-        bit); the ink is copied too."""
+        bit), ink included."""
         twin = type(self)(self.model)
         twin.copy_state_from(self)
-        if getattr(self, "_ink", None) is not None:
-            ink = _core.Ink(twin, 1.0)
-            ink.ramp, ink.load, ink.capacity = self._ink.ramp, self._ink.load.copy(), self._ink.capacity.copy()
-            ink.excess, ink.deposited = self._ink.excess, self._ink.deposited
-            twin._ink = ink
         return twin
 
     def default_ink_mm2(self) -> float:

@@ -74,9 +74,14 @@ class Brush {
   VecX full_state() const { return state_.x; }  // (5n,) all variables, fixed ones included
   VecX multipliers() const { return state_.lambda.head(state_.m); }  // (m,) N, last frame's contact forces
 
-  // per-node wetness in [0, 1] (n+1,), used by wet adhesion; ink and drying build on it
+  // per-node wetness in [0, 1] (n+1,), used by wet adhesion; the ink's depletion sets it
   VecX& wetness() { return state_.wetness; }
   const VecX& wetness() const { return state_.wetness; }
+
+  // the ink on the brush, part of its state (not loaded until set_ink or Ink::full)
+  Ink& ink() { return state_.ink; }
+  const Ink& ink() const { return state_.ink; }
+  void set_ink(const Ink& ink);  // validates it for this brush's n+1 nodes
 
  private:
   // the full vector x with the active variables z put in (validates z's size)

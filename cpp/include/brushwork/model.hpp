@@ -39,7 +39,7 @@ struct BrushModel {
   double internal_friction = 0.1;       // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame
   double friction_along = 0.25;         // mu for drag along the hairs
   double friction_side = 0.6;           // mu for drag across the hairs
-  double wet_adhesion = 0.02;           // N added to R_i per unit p_i of a wet node
+  double wet_adhesion = 0.02;           // N, pull toward the paper per unit p_i of a wet node in contact
   double contact_relaxation = 0.5;      // omega: R_i moves this fraction of the way to last frame's force
   double friction_smoothing = 0.05;     // mm, x_i = sqrt(|dx|^2 + eps^2) - eps keeps the friction energy smooth
 
@@ -56,7 +56,8 @@ struct BrushModel {
   bool pore_resistance = true;          // blocking plane ahead of the tip
 
   // --- solver (seed "Real-time simulation") ---
-  int q_max = 20;                       // SQP iterations per frame
+  int q_max = 40;                       // SQP iterations per frame
+  int newton_after = 8;                 // BFGS iterations of a frame before H is set once from the Lagrangian's Hessian (0: never)
   double tolerance = 1e-5;              // KKT residual (scaled, see kkt_residual) to stop
   bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
 

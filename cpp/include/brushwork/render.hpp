@@ -110,22 +110,6 @@ struct SceneFeatures {
   void validate() const;  // std::invalid_argument naming the field
 };
 
-// Ink on one brush (seed "Ink loading").  Colours are straight (not premultiplied) RGBA in
-// [0, 1]; alpha is the ink's opacity.  load/capacity are per spine node, in mm^2 of paper covered
-// at full density; the brush's wetness is load / capacity.
-struct Ink {
-  std::vector<std::array<float, 4>> ramp{{0.0f, 0.0f, 0.0f, 1.0f}};  // root .. tip, >= 1 entry
-  Eigen::VectorXd load;      // (n+1) mm^2
-  Eigen::VectorXd capacity;  // (n+1) mm^2
-  double excess = 0.0;       // soaked tip: excess moisture in [0, 1]
-  double deposited = 0.0;    // mm^2 given to the paper so far (depletion scenes)
-
-  // full ink of `total_mm2`, split over the nodes in proportion to the section areas
-  static Ink full(const Brush& brush, double total_mm2);
-  double total() const { return load.sum(); }
-  void validate(int nodes) const;
-};
-
 // What one deposit did.
 struct DepositStats {
   bool contact = false;        // some of the surface was below the paper

@@ -4,6 +4,7 @@
 // back later makes the brush continue bit for bit as it would have from that moment.
 #pragma once
 
+#include <array>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <string>
@@ -54,6 +55,25 @@ struct StepStats {
   std::vector<double> kkt_trace;                  // KKT residual after each accepted step
 };
 
+class Brush;
+
+// Ink on one brush (seed "Ink loading").  Colours are straight (not premultiplied) RGBA in
+// [0, 1]; alpha is the ink's opacity.  load/capacity are per spine node, in mm^2 of paper covered
+// at full density; the brush's wetness is load / capacity.
+struct Ink {
+  std::vector<std::array<float, 4>> ramp{{0.0f, 0.0f, 0.0f, 1.0f}};  // root .. tip, >= 1 entry
+  Eigen::VectorXd load;      // (n+1) mm^2
+  Eigen::VectorXd capacity;  // (n+1) mm^2
+  double excess = 0.0;       // soaked tip: excess moisture in [0, 1]
+  double deposited = 0.0;    // mm^2 given to the paper so far (depletion scenes)
+
+  // full ink of `total_mm2`, split over the nodes in proportion to the section areas
+  static Ink full(const Brush& brush, double total_mm2);  // (render/ink.cpp)
+  bool loaded() const { return load.size() > 0; }  // false until the brush is first dipped
+  double total() const { return load.sum(); }
+  void validate(int nodes) const;
+};
+
 struct BrushState {
   // --- degrees of freedom (5n,), in the order brush.hpp lists ---
   VecX x;         // variables theta, phi, psi, delta+, delta- (rad, rad, rad, sqrt(mm), sqrt(mm))
@@ -80,6 +100,7 @@ struct BrushState {
   int m = 0;                           // constraints in this frame's problem
   int contacts = 0;                    // nodes (spine + lateral) in the contact set
   std::vector<double> R;               // (3(n+1)) N, normal force of each node in contact, else 0
+  std::vector<double> pull;            // (3(n+1)) N, wet adhesion pulling each node in contact down
   std::vector<Vec2> txy;               // (n+1) unnormalised horizontal projection of the segment above node i
   bool pore_on = false;                // the blocking plane is in this frame's problem
   bool pore_on_prev = false;           // it was in last frame's problem
@@ -94,8 +115,9 @@ struct BrushState {
   bool root_clamped = false;           // the pose put the ferrule into the paper
   bool same_pose = false;              // this frame's pose equals the last one (sleep rule)
 
-  // --- wetness (seed "wet adhesion"); ink and drying build on it ---
-  VecX wetness;  // (n+1,) in [0, 1]
+  // --- wetness (seed "wet adhesion") and the ink it comes from (seed "Ink loading") ---
+  VecX wetness;  // (n+1,) in [0, 1]: load / capacity once the ink depletes
+  Ink ink;       // no nodes until the brush is first dipped
 
   StepStats stats;  // of the last step
 };

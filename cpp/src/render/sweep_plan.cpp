@@ -151,8 +151,9 @@ class BlendWidth {
     for (const int v : blend_v_)
       for (int d = 0; d < 3; ++d) bl_[3 * v + d] = (1.0 - t) * pp_[3 * v + d] + t * pc_[3 * v + d];
     lo_ = kFar, hi_ = -kFar;
+    depth_ = 0.0;
     for (const int v : dip_v_)
-      if (bl_[3 * v + 2] < 0.0) add(bl_[3 * v], bl_[3 * v + 1]);
+      if (bl_[3 * v + 2] < 0.0) add(bl_[3 * v], bl_[3 * v + 1]), depth_ -= bl_[3 * v + 2];
     for (const auto& e : cross_e_) {
       const double* a = &bl_[3 * static_cast<std::size_t>(e[0])];
       const double* b = &bl_[3 * static_cast<std::size_t>(e[1])];
@@ -163,6 +164,8 @@ class BlendWidth {
     }
     return hi_ >= lo_ ? hi_ - lo_ : 0.0;
   }
+  // mm: the summed depth below the paper of the last at()'s dipped vertices
+  double depth() const { return depth_; }
 
  private:
   bool below(std::uint32_t v) const { return pp_[3 * v + 2] < 0.0 || pc_[3 * v + 2] < 0.0; }
@@ -182,12 +185,15 @@ class BlendWidth {
   std::vector<char> seen_;
   std::vector<double> bl_;           // (V, 3) mm, the blend at t of the vertices in blend_v_
   double lo_ = kFar, hi_ = -kFar;    // mm across the move
+  double depth_ = 0.0;               // mm, summed depth of the blend's dipped vertices
 };
 
 // The slides are needed only where the blend breaks: where one end's part is much narrower than
 // the other's (a pressed blob and a thin trailing tip), or the surface blended between the two
 // deposits lifts off the paper or pinches to a neck on the way: widths at t = 0 and 1, and at
-// t = 1/8 .. 7/8 against the narrower end's.  A blend that keeps at least kNeck of the width
+// t = 1/8 .. 7/8 against the narrower end's, and the same for the summed depth of the surface
+// below the paper (a blend that keeps its width across but rises toward the paper along the
+// move, a pressed belly blended into a dragged one, thins to a neck that the width misses).  A blend that keeps at least kNeck of the width
 // leaves an unbroken band by itself: its copies are spaced no farther apart than this frame's
 // part is wide.  A centre that moves under half a pixel needs no slides.  Returns the shift
 // (mm), zero when the parts do not slide.
@@ -199,10 +205,11 @@ std::array<double, 2> slide_shift(const std::vector<double>& pp, const std::vect
   const double move_mm = std::hypot(move_x, move_y);
   if (!(move_mm * px_per_mm > kMinMovePx)) return {0.0, 0.0};
   BlendWidth width(pp, pc, fs, move_x / move_mm, move_y / move_mm);
-  const double w0 = width.at(0.0), w1 = width.at(1.0), ends = std::min(w0, w1);
+  const double w0 = width.at(0.0), d0 = width.depth(), w1 = width.at(1.0), d1 = width.depth();
+  const double ends = std::min(w0, w1), deep = std::min(d0, d1);
   bool both = ends < kNeck * std::max(w0, w1);
   for (int k = 1; k < kNeckSamples && !both; ++k)
-    both = width.at(k / static_cast<double>(kNeckSamples)) < kNeck * ends;
+    both = width.at(k / static_cast<double>(kNeckSamples)) < kNeck * ends || width.depth() < kNeck * deep;
   return both ? std::array<double, 2>{move_x, move_y} : std::array<double, 2>{0.0, 0.0};
 }
 

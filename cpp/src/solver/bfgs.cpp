@@ -2,6 +2,7 @@
 // diagonal start, the damped update, and one carried matrix per regime (touching, in the air).
 #include <algorithm>
 #include <cmath>
+#include <Eigen/Eigenvalues>
 
 #include "../power.hpp"
 #include "../tuft/internal.hpp"
@@ -127,6 +128,43 @@ void bfgs_update(const Tuft& t, BrushState& st, Workspace& w, int m, double alph
   for (int c = 0; c < na; ++c)
     for (int k = c; k < na; ++k)
       H(k, c) = H(c, k) = H(k, c) - rho * (w.s[k] * w.Hr[c] + w.Hr[k] * w.s[c]) + css * (w.s[k] * w.s[c]);
+}
+
+// H = B^-1 with B the Lagrangian's Hessian at the current iterate w.za (multipliers w.lam fixed),
+// by forward differences of grad L = grad f - J^T lambda, symmetrised; eigenvalues below a floor
+// (the fresh start's smallest curvature) are raised to it so that H stays positive definite
+void newton_hessian(const Tuft& t, BrushState& s, Workspace& w, int m) {
+  const int na = t.na();
+  VecX gl0(na), gl(na), gfull(t.nx), gcon(t.mmax);
+  MatX Jfull(t.mmax, t.nx), B(na, na);
+  auto grad_l = [&](const VecX& x, VecX& out) {
+    evaluate(t, s, w, x, &gfull, &gcon, &Jfull);
+    for (int k = 0; k < na; ++k) {
+      double v = gfull[t.active[k]];
+      for (int i = 0; i < m; ++i) v -= Jfull(i, t.active[k]) * w.lam[i];
+      out[k] = v;
+    }
+  };
+  const VecX x0 = s.x;
+  grad_l(x0, gl0);
+  VecX xh = x0;
+  for (int k = 0; k < na; ++k) {
+    const int j = t.active[k];
+    const double h = 1e-6 * std::max(1.0, std::abs(x0[j]));
+    xh[j] = x0[j] + h;
+    grad_l(xh, gl);
+    B.col(k) = (gl - gl0) / h;
+    xh[j] = x0[j];
+  }
+  evaluate(t, s, w, x0, nullptr, nullptr, nullptr);  // the workspace back at the iterate
+  B = 0.5 * (B + B.transpose()).eval();
+  VecX b(t.nx);
+  spring_curvature(t, s, b);
+  double floor_b = kHuge;
+  for (int k = 0; k < na; ++k) floor_b = std::min(floor_b, b[t.active[k]]);
+  Eigen::SelfAdjointEigenSolver<MatX> es(B);
+  VecX ev = es.eigenvalues().cwiseMax(floor_b).cwiseInverse();
+  s.H = es.eigenvectors() * ev.asDiagonal() * es.eigenvectors().transpose();
 }
 
 // H's diagonal is positive and finite

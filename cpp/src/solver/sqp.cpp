@@ -48,6 +48,7 @@ struct Loop {
   double nu_max = 0.0;      // N, ceiling of the penalty
   bool fresh = false;       // H was started afresh since the last accepted step
   int q = 0;                // accepted steps
+  bool newton = false;      // H was set from the Lagrangian's Hessian this frame
 };
 
 enum class Outcome { kAccepted, kRetry, kStop };
@@ -288,8 +289,13 @@ double kkt(const Tuft& t, const VecX& gact, const VecX& g, const MatX& Jact, con
 
 void solve(const Tuft& t, BrushState& s, Workspace& w) {
   Loop L = start_loop(t, s, w);
-  while (!s.stats.converged && L.q < t.model.q_max)
+  while (!s.stats.converged && L.q < t.model.q_max) {
+    if (L.q == t.model.newton_after && L.q > 0 && !L.newton) {
+      newton_hessian(t, s, w, L.m);
+      L.newton = true;
+    }
     if (iterate(t, s, w, L) == Outcome::kStop) break;
+  }
   if (!t.model.warm_hessian) s.have_hessian = false;
   for (int i = 0; i < L.m; ++i) s.lambda[i] = w.lam[i];
   s.stats.iterations = L.q;

@@ -169,6 +169,28 @@ void friction(const Tuft& t, const BrushState& s, Workspace& w, bool grad, doubl
   }
 }
 
+// wet adhesion (seed "wet adhesion") as a pull toward the paper: A_i z_i for the nodes of the
+// frozen contact set, A_i = wet_adhesion p_i wetness_i shared by node i's touching points; the
+// contact force that holds the node up then carries it, and friction through it
+void adhesion(const Tuft& t, const BrushState& s, Workspace& w, bool grad, double& E) {
+  for (int i = 1; i <= t.n; ++i)
+    for (int k = 0; k < 3; ++k) {
+      const double A = s.pull[3 * i + k];
+      if (A <= 0.0) continue;
+      const double sg = k == 1 ? 1.0 : -1.0;
+      const double dk = k == 1 ? w.d_plus[i] : w.d_minus[i];
+      const Vec3 P = k == 0 ? w.O[i] : Vec3(w.O[i] + sg * dk * w.u[i]);
+      E += A * P.z();
+      if (!grad) continue;
+      const Vec3 gP(0.0, 0.0, A);
+      w.gO[i] += gP;
+      if (k > 0) {
+        w.gu[i] += sg * dk * gP;
+        (k == 1 ? w.gdp : w.gdm)[i] += sg * gP.dot(w.u[i]);
+      }
+    }
+}
+
 // g_i = lowest point of the shrunk section Phi_i's ellipsoid (Omega_i turned about its major
 // axis, scaled by collision_shrink) >= 0, mm, and its Jacobian row
 void section_constraint(const Tuft& t, const Workspace& w, int i, int row, VecX& g, MatX* J) {
@@ -216,6 +238,7 @@ double evaluate(const Tuft& t, const BrushState& s, Workspace& w, const VecX& x,
   lateral_springs(t, s, x, grad, E);
   lateral_bends(t, w, grad != nullptr, E);
   friction(t, s, w, grad != nullptr, E);
+  adhesion(t, s, w, grad != nullptr, E);
   if (grad) detail::chain(t, w, *grad);
   if (g) constraints(t, s, w, *g, J);
   return E;

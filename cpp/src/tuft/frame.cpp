@@ -133,12 +133,20 @@ int node_contact(const Tuft& t, BrushState& s, const Workspace& w, int i, double
   // relaxed R <- R + omega (lambda - R): with omega = 1 a large force makes the tip stick, the
   // stuck tip unloads the section, the small force lets it slip, and the footprint flips
   // between two sizes every other frame (a period-2 cycle of the lagged iteration); omega
-  // 1/2 damps it.  Plus wet adhesion.
+  // 1/2 damps it.
   const double lam = (md.collision && i - 1 < s.lambda.size()) ? std::max(s.lambda[i - 1], 0.0) : 0.0;
   double& Rr = s.R_relaxed[i - 1];
   Rr += md.contact_relaxation * (lam - Rr);
-  const double total = Rr + md.wet_adhesion * s.p[i] * std::clamp(s.wetness[i], 0.0, 1.0);
-  for (int k = 0; k < 3; ++k) s.R[3 * i + k] = (touch[k] && count > 0) ? total / count : 0.0;
+  // wet adhesion A_i pulls the touching points down (energy.cpp): the force that holds them up,
+  // and so next frame's R, carries it.  (Added to R instead, as friction without a normal force,
+  // it held lightly dragged sections back until they lifted, and the next frame, free of it,
+  // put them down again: a period-2 cycle of the contact set.)
+  const double adhesion = md.wet_adhesion * s.p[i] * std::clamp(s.wetness[i], 0.0, 1.0);
+  for (int k = 0; k < 3; ++k) {
+    const bool on = touch[k] && count > 0;
+    s.R[3 * i + k] = on ? Rr / count : 0.0;
+    s.pull[3 * i + k] = on ? adhesion / count : 0.0;
+  }
   return count;
 }
 
@@ -227,6 +235,7 @@ BrushState initial_state(const Tuft& t) {
   s.x = s.x_prev = s.rest = VecX::Zero(t.nx);
   s.prev_pts.assign(3 * (n + 1), Vec3::Zero());
   s.R.assign(3 * (n + 1), 0.0);
+  s.pull.assign(3 * (n + 1), 0.0);
   s.txy.assign(n + 1, Vec2::Zero());
   s.p = VecX::Zero(n + 1);
   s.c_prev = t.r0;
@@ -273,6 +282,7 @@ bool arrays_fit(const Tuft& t, const BrushState& s) {
   const int node_arrays[] = {size(s.p), size(s.c_prev), size(s.wetness), size(s.txy)};
   for (int k : node_arrays)
     if (k != n + 1) return false;
+  if (s.ink.loaded() && (size(s.ink.load) != n + 1 || size(s.ink.capacity) != n + 1)) return false;
   return s.x.size() == t.nx && s.x_prev.size() == t.nx && s.rest.size() == t.nx &&
          s.lambda.size() == t.mmax && s.R_relaxed.size() == n && size(s.prev_pts) == 3 * (n + 1) &&
          size(s.R) == 3 * (n + 1);

@@ -27,7 +27,8 @@ def _one_run(model: BrushModel, poses) -> tuple[list, float]:
 
 
 def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
-    """Time press_drag_turn_lift(frames) on `preset` with q_max 20, carried and fresh Hessian.
+    """Time press_drag_turn_lift(frames) on `preset` with the seed's solver (q_max 20, BFGS without
+    a Newton refresh), carried and fresh Hessian.
 
     Returns {"preset", "frames", "repeats", "q_max", "rows": [one dict per mode], "iteration_ratio"}
     where each row has mode, warm_hessian, mean_iterations, converged_frac, fps_core (frames per
@@ -45,6 +46,7 @@ def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
         # the model for this mode
         m = BrushModel.preset(preset)
         m.q_max = 20
+        m.newton_after = 0     # the seed's plain BFGS, as its Table 1 compares
         m.warm_hessian = warm
         poses = press_drag_turn_lift(m, frames=frames)
         best_core, best_wall, best_times, iters, conv = math.inf, math.inf, None, None, None

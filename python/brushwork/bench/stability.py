@@ -295,6 +295,25 @@ def _random(rec: _Recorder, scale: float, rng) -> None:
     rec.extra.update({"episodes": episodes, "resets": n_resets, "frames_per_episode": per})
 
 
+def _random_extreme(rec: _Recorder, scale: float, rng) -> None:
+    """Random jumps of up to a whole tuft length per frame in any direction, the root from 1.5 L
+    below the paper to 1.3 L above it, tilts 0..85 deg, any azimuth and twist: 1,500 frames (at
+    scale 1) on each preset, a fresh brush each."""
+    per = _n(1500, scale, least=20)
+    for preset in BrushModel.presets():
+        m = _model(preset)
+        L = m.tuft_length
+        b, pos = Brush(m), np.array([0.0, 0.0, 1.3 * L])
+        for k in range(per):
+            jump = rng.normal(size=3)
+            pos = pos + rng.uniform(0.0, L) * jump / max(float(np.linalg.norm(jump)), 1e-12)
+            pos[2] = float(np.clip(pos[2], -1.5 * L, 1.3 * L))
+            pos[:2] = np.clip(pos[:2], -5.0 * L, 5.0 * L)
+            pose = Pose((float(pos[0]), float(pos[1]), float(pos[2])), float(rng.uniform(0.0, 85.0)),
+                        float(rng.uniform(0.0, 360.0)), float(rng.uniform(-90.0, 90.0)))
+            rec.record(b, b.step(pose), L, first=(k == 0))
+
+
 # the case list, in the order they run
 CASES: list[tuple[str, Callable]] = [
     ("stiffness 1e2 m=2", _stiffness_case(1e2, 2.0)),
@@ -309,6 +328,7 @@ CASES: list[tuple[str, Callable]] = [
     ("straight start", _straight_start),
     ("1000 frames without motion", _still),
     ("random", _random),
+    ("random extreme jumps", _random_extreme),
 ]
 
 

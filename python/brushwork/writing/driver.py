@@ -31,7 +31,7 @@ from .targets import _centroid_and_width, stroke_targets
 # the driver's constants (L: the tuft length)
 PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
 PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
-HOLD_FRAMES = 3           # frames a pose is held at most while the solver leaves a pressed brush floating
+HOLD_FRAMES = 3           # frames a pressing brush is pressed deeper at most while it floats off the paper
 TRAVEL_STEP = 4.0         # step_mm: the brush moves this many frame steps per frame in the air
 TRAVEL_FRAMES = (2, 10)   # frames of one travel between strokes, fewest and most
 
@@ -59,7 +59,7 @@ class Writer:
         self.touching = False             # the last deposit touched the paper
         self.touched_in_stroke = False    # a deposit of this stroke touched it
         self.breaks = 0                   # strokes broken: down again after a lift within one stroke
-        self.holds = 0                    # frames a pose was held because the solver left the brush floating
+        self.holds = 0                    # frames re-stepped deeper because a pressing brush floated off the paper
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
 
@@ -72,14 +72,15 @@ class Writer:
         pose = Pose((root[0], root[1], z), tilt, math.degrees(heading))
         stats = self.brush.step(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
-        # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
-        # When the solver stopped at q_max on an iterate that does (a bent tuft held up on its
-        # way to the new pose), hold the pose for up to three more frames rather than lay a gap in
-        # the stroke (one more frame left 46 broken strokes in the 301 dev characters, three 29)
+        # a pressing brush that leaves the paper in the middle of a stroke (a bent, plastically set
+        # tuft whose tip curls up under a light press: a true equilibrium) is pressed PRESS_ON
+        # deeper and stepped again, up to HOLD_FRAMES times, as a hand feels the brush lift, rather
+        # than lay a gap in the stroke
         for _ in range(HOLD_FRAMES):
-            if not (self.touching and press > 0.0 and not stats.converged and stats.status == "iteration cap"
-                    and not self.contact):
+            if not (self.touching and press > 0.0 and not self.contact):
                 break
+            press = min(press + PRESS_ON, PRESS_MAX)
+            pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
             stats = self.brush.step(pose)
             self.contact = self.brush.footprint()
             self.frames += 1
