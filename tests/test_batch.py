@@ -460,18 +460,21 @@ def test_error_by_part_puts_each_miss_on_its_stroke_part():
 
 
 class _FloatingOnce:
-    """A brush stand-in whose first `floats` steps stop at q_max floating above the paper, the next
-    touches (what the core does on a capped frame: the next one carries on from there)."""
+    """A brush stand-in whose first `floats` steps leave it floating above the paper (stopped at
+    q_max, or, `converged_first`, a converged bent tuft curling up), the next touch; it records
+    the root height of every pose."""
 
     def __init__(self, converged_first=False, floats=1):
         self.steps = 0
         self.converged_first = converged_first
         self.floats = floats
+        self.heights = []
 
     def step(self, pose):
         from types import SimpleNamespace
 
         self.steps += 1
+        self.heights.append(pose.position[2])
         floating = self.steps <= self.floats and not self.converged_first
         return SimpleNamespace(converged=not floating, status="iteration cap" if floating else "converged")
 
@@ -490,19 +493,22 @@ class _Paper:
 
 
 @pytest.mark.parametrize("touching, press, converged_first, floats, steps", [
-    (True, 0.2, False, 1, 2),     # pressed, capped and floating: the pose is held a frame
-    (True, 0.2, False, 9, 4),     # ... at most three
+    (True, 0.2, False, 1, 2),     # pressing and floating mid-stroke: stepped again, deeper
+    (True, 0.2, False, 9, 4),     # ... at most three more times
+    (True, 0.2, True, 1, 2),      # the same for a converged tuft that curls up off the paper
     (True, -0.1, False, 1, 1),    # above first contact: floating is right
     (False, 0.2, False, 1, 1),    # not in a stroke yet (coming down)
-    (True, 0.2, True, 1, 1),      # converged: whatever it shows is the brush's answer
 ])
-def test_a_pressed_brush_left_floating_by_the_cap_is_held(touching, press, converged_first, floats, steps):
+def test_a_pressing_brush_that_floats_mid_stroke_is_pressed_deeper(touching, press, converged_first, floats,
+                                                                    steps):
     writer = Writer(_Paper(), Style.load("kai"))
     writer.brush = _FloatingOnce(converged_first, floats)
     writer.touching = touching
-    writer._step(np.array([10.0, 10.0]), 0.0, press, 15.0)
+    writer._step(np.array([10.0, 10.0]), 0.0, press, 15.0, keep_down=True)
     assert writer.brush.steps == steps
     assert writer.frames == steps and writer.holds == steps - 1
+    z = writer.brush.heights
+    assert all(b < a for a, b in zip(z, z[1:])), "each retry presses deeper"
 
 
 def test_the_writer_counts_a_stroke_broken_by_a_lift():
@@ -569,7 +575,7 @@ def test_the_lift_goes_straight_up_once_the_brush_has_left(leave_at, off_at_trav
     writer.press = 0.2
     writer.write_stroke(pts, "㇐")
     z = np.array([p.position[2] for p in writer.brush.poses])
-    exit_z = z[before_exit:]
+    exit_z = z[before_exit + writer.holds:]       # (a brush off the paper in the travel is pressed again first)
     assert len(exit_z) == exit_steps
     assert exit_z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
     assert np.all(np.diff(exit_z) > 0.0)        # always up
@@ -602,8 +608,8 @@ def _trace_exit(style, size=512):
     writer = Writer(writing_paper(style, size), style)
     step, observe = writer._step, writer._observe
 
-    def traced_step(target, heading, press, tilt):
-        step(target, heading, press, tilt)
+    def traced_step(target, heading, press, tilt, keep_down=False):
+        step(target, heading, press, tilt, keep_down)
         seen = _centroid_and_width(writer.contact, heading)
         c, s = math.cos(heading), math.sin(heading)
         off = writer.offset_local

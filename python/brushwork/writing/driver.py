@@ -63,7 +63,9 @@ class Writer:
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
 
-    def _step(self, target: np.ndarray, heading: float, press: float, tilt: float) -> None:
+    def _step(self, target: np.ndarray, heading: float, press: float, tilt: float, keep_down: bool = False) -> None:
+        """One frame at `target` (mm) heading `heading` (rad) with `press` (L) and `tilt` (deg), and
+        its deposit; `keep_down`: the brush belongs on the paper (the travel before any exit)."""
         c, s = math.cos(heading), math.sin(heading)
         off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
                         s * self.offset_local[0] + c * self.offset_local[1]])
@@ -72,12 +74,12 @@ class Writer:
         pose = Pose((root[0], root[1], z), tilt, math.degrees(heading))
         stats = self.brush.step(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
-        # a pressing brush that leaves the paper in the middle of a stroke (a bent, plastically set
+        # a pressing brush that leaves the paper in the travel of a stroke (a bent, plastically set
         # tuft whose tip curls up under a light press: a true equilibrium) is pressed PRESS_ON
         # deeper and stepped again, up to HOLD_FRAMES times, as a hand feels the brush lift, rather
         # than lay a gap in the stroke
         for _ in range(HOLD_FRAMES):
-            if not (self.touching and press > 0.0 and not self.contact):
+            if not (keep_down and self.touching and press > 0.0 and not self.contact):
                 break
             press = min(press + PRESS_ON, PRESS_MAX)
             pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
@@ -164,7 +166,7 @@ class Writer:
                 self.press = float(_clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom,
                                          0.0, PRESS_MAX))
             pj = aim.target(self, j)
-            self._step(pj, heading[j], self.press, st.tilt_deg)
+            self._step(pj, heading[j], self.press, st.tilt_deg, keep_down=not (tapering and aim.tapers_at(j)))
             eased = self.press
             self._observe(pj, heading[j], width[j])
             if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
