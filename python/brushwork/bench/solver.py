@@ -1,4 +1,6 @@
-"""Solver speed benchmark: the press-drag-turn-lift stroke with a carried and a fresh Hessian.
+"""Solver speed benchmark: the press-drag-turn-lift stroke with the seed's solver (BFGS at q_max 20)
+carrying its Hessian across frames and starting it afresh each frame, and with the shipped solver
+(the preset's q_max and Newton refresh).
 
 Speeds are solved frames per second on one core: ``frames / sum(s.time)`` uses the core's own
 per-frame timing (no Python), and the wall-clock figure includes the Python loop around it.
@@ -14,8 +16,10 @@ from .. import BrushModel
 from ..brush import Brush
 from ..recorded import press_drag_turn_lift
 
-# the two Hessian modes compared: name -> warm_hessian
-MODES = (("carried", True), ("fresh", False))
+# the modes compared: name -> model overrides (None: the preset as shipped)
+MODES = (("carried", {"q_max": 20, "newton_after": 0, "warm_hessian": True}),
+         ("fresh", {"q_max": 20, "newton_after": 0, "warm_hessian": False}),
+         ("shipped", None))
 
 
 def _one_run(model: BrushModel, poses) -> tuple[list, float]:
@@ -28,10 +32,10 @@ def _one_run(model: BrushModel, poses) -> tuple[list, float]:
 
 def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
     """Time press_drag_turn_lift(frames) on `preset` with the seed's solver (q_max 20, BFGS without
-    a Newton refresh), carried and fresh Hessian.
+    a Newton refresh), carried and fresh Hessian, and with the shipped solver.
 
     Returns {"preset", "frames", "repeats", "q_max", "rows": [one dict per mode], "iteration_ratio"}
-    where each row has mode, warm_hessian, mean_iterations, converged_frac, fps_core (frames per
+    where each row has mode, warm_hessian, q_max, newton_after, mean_iterations, converged_frac, fps_core (frames per
     second from the core's own timing), fps_wall (frames per second including the Python loop),
     p50_us and p95_us (per-frame core time in microseconds, from the run with the least core time).
     The speed figures are the best of `repeats` runs; iteration_ratio = carried / fresh mean
@@ -42,12 +46,11 @@ def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
     if repeats < 1:
         raise ValueError(f"repeats = {repeats} must be at least 1")
     rows = []
-    for mode, warm in MODES:
-        # the model for this mode
+    for mode, overrides in MODES:
+        # the model for this mode: the seed's plain BFGS at q_max 20 (its Table 1), or as shipped
         m = BrushModel.preset(preset)
-        m.q_max = 20
-        m.newton_after = 0     # the seed's plain BFGS, as its Table 1 compares
-        m.warm_hessian = warm
+        for name, value in (overrides or {}).items():
+            setattr(m, name, value)
         poses = press_drag_turn_lift(m, frames=frames)
         best_core, best_wall, best_times, iters, conv = math.inf, math.inf, None, None, None
         # best of `repeats`: least summed core time, least wall time (each on its own)
@@ -62,7 +65,9 @@ def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
             conv = sum(bool(s.converged) for s in stats) / len(stats)
         rows.append({
             "mode": mode,
-            "warm_hessian": warm,
+            "warm_hessian": m.warm_hessian,
+            "q_max": m.q_max,
+            "newton_after": m.newton_after,
             "mean_iterations": float(np.mean(iters)),
             "converged_frac": conv,
             "fps_core": frames / best_core if best_core > 0 else math.inf,
@@ -82,8 +87,10 @@ def table(result: dict) -> str:
     from .report import format_value, markdown_table
 
     text = markdown_table(
-        result["rows"], ["mode", "mean_iterations", "fps_core", "fps_wall", "p50_us", "p95_us"],
-        ["mode", "mean iterations", "frames/s (core)", "frames/s (wall)", "p50 µs", "p95 µs"])
+        result["rows"], ["mode", "q_max", "newton_after", "mean_iterations", "converged_frac", "fps_core",
+                         "fps_wall", "p50_us", "p95_us"],
+        ["mode", "q_max", "Newton after", "mean iterations", "converged", "frames/s (core)", "frames/s (wall)",
+         "p50 µs", "p95 µs"])
     return (text + f"\n\niterations carried/fresh: {format_value(result['iteration_ratio'])} "
-            f"({result['preset']}, {result['frames']} frames, q_max {result['q_max']}, "
+            f"at q_max 20 ({result['preset']}, {result['frames']} frames, "
             f"best of {result['repeats']})")
