@@ -8,6 +8,8 @@
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
+    brushwork outline MESH -o FILE [--size N] [--azimuth DEG] [--elevation DEG] [--style S] [--camera-json FILE] ...
+    brushwork bench outline [--meshes DIR] [--json FILE]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -384,6 +386,31 @@ def _fuzz(args: argparse.Namespace) -> int:
     return rc
 
 
+# outline (3-D meshes) and bench outline: brushwork.outline3d
+def _outline_args(p: argparse.ArgumentParser) -> None:
+    from .outline3d import command
+
+    command.add_arguments(p)
+
+
+def _outline(args: argparse.Namespace) -> int:
+    from .outline3d import command
+
+    return command.run(args)
+
+
+def _bench_outline_args(p: argparse.ArgumentParser) -> None:
+    from .bench import outline
+
+    outline.add_arguments(p)
+
+
+def _bench_outline(args: argparse.Namespace) -> int:
+    from .bench import outline
+
+    return _report("outline", args, lambda: outline.run(args, progress=_progress), outline.table)
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -397,6 +424,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
     "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
              _fuzz_args, _fuzz),
+    "outline": ("3-D outlines of meshes: silhouette recall and precision, chains, time per phase, orbit coherence",
+                _bench_outline_args, _bench_outline),
 }
 
 
@@ -418,6 +447,7 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",
                _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
+    "outline": ("draw a 3-D mesh's visible feature lines with the brush", _outline_args, _outline),
 }
 
 

@@ -1,0 +1,120 @@
+"""A mesh file to a brush drawing: load, fit the camera, find the feature lines, test them
+against the depth buffer, chain them and draw each chain as one stroke of the brush."""
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import camera as cam
+from . import chains as ch
+from . import lines as ln
+from . import visibility as vis
+from .strokes import OutlineDrawer, OutlineStyle
+
+DEFAULT_KINDS = ("silhouette", "boundary", "crease")
+
+
+@dataclass
+class View:
+    """Where the camera is: azimuth and elevation (degrees) about the mesh's y axis, the
+    vertical field of view (0: orthographic), and the image size (W, H) px."""
+    azimuth: float = 30.0
+    elevation: float = 20.0
+    fov_deg: float = 30.0
+    size: tuple = (1024, 1024)
+
+
+@dataclass
+class Drawing:
+    """What `draw` made: the paper, the camera, the chains drawn, the depth image and stats."""
+    paper: object
+    camera: cam.Camera
+    chains: list
+    depth: np.ndarray
+    lines: ln.Lines
+    stats: dict = field(default_factory=dict)
+
+
+class _Collect(logging.Handler):
+    """Keeps the warnings trimesh logs while it reads a file (a missing texture, say)."""
+
+    def __init__(self):
+        super().__init__(logging.WARNING)
+        self.messages: list[str] = []
+
+    def emit(self, record):
+        self.messages.append(" ".join(record.getMessage().split())[:200])
+
+
+def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
+    """(n, 3) vertices, (m, 3) faces and warnings of a mesh file (OBJ, PLY, STL, OFF, GLB/glTF,
+    through trimesh; a scene's meshes are joined in their placed positions).  ValueError with
+    one line when the file cannot be read as a triangle mesh."""
+    try:
+        import trimesh
+    except ImportError:
+        raise ValueError("reading meshes needs trimesh: pip install 'brushwork[outline]'") from None
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise ValueError(f"{path}: no such file")
+    log, catch = logging.getLogger("trimesh"), _Collect()
+    log.addHandler(catch)
+    try:
+        loaded = trimesh.load(path, force="mesh", process=False)
+    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault, said in one line
+        raise ValueError(f"{path}: not a readable mesh ({type(err).__name__}: {' '.join(str(err).split())[:160]})") from None
+    finally:
+        log.removeHandler(catch)
+    faces = np.asarray(getattr(loaded, "faces", np.zeros((0, 3))))
+    vertices = np.asarray(getattr(loaded, "vertices", np.zeros((0, 3))))
+    if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
+        raise ValueError(f"{path}: no triangles in the file")
+    return vertices, faces, catch.messages
+
+
+def _median_length(chains: list, diagonal: float) -> float:
+    lengths = [c.length for c in chains if c.visible]
+    return float(np.median(lengths)) / diagonal if lengths else 0.0
+
+
+def _line_stats(lines: ln.Lines, chains: list, size: tuple) -> dict:
+    diag = math.hypot(*size)
+    counts = {name: int(sum(1 for c in chains if c.visible and c.kind == k)) for k, name in enumerate(ln.KINDS)}
+    return {"segments": int(len(lines.segments)), "chains": int(sum(1 for c in chains if c.visible)),
+            "hidden_chains": int(sum(1 for c in chains if not c.visible)), "chains_by_kind": counts,
+            "median_chain_over_diagonal": _median_length(chains, diag)}
+
+
+def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KINDS, crease_deg: float = 60.0,
+         hidden: str = "none") -> Drawing:
+    """Draw a prepared surface as `style` sees it from `view`; stats carry the time per phase."""
+    times = {}
+    t = time.perf_counter()
+    camera = cam.fit(surface.vertices, view.size, view.azimuth, view.elevation, view.fov_deg)
+    lines = ln.extract(surface, camera, kinds, crease_deg)
+    times["lines"] = time.perf_counter() - t
+    t = time.perf_counter()
+    depth = vis.depth_image(surface, camera)
+    block = vis.farthest_near(depth, camera)
+    radius = 0.5 * surface.diagonal
+    is_visible = lambda samples: vis.visible(samples, block, camera, radius)  # noqa: E731
+    times["visibility"] = time.perf_counter() - t
+    t = time.perf_counter()
+    min_px = style.min_length * math.hypot(*view.size)
+    chains = ch.build(lines, camera, is_visible, min_px, style.smooth_passes)
+    times["chaining"] = time.perf_counter() - t
+    drawer = OutlineDrawer(style, view.size)
+    # hidden lines first, faint, under the visible ones; silhouettes last, on top
+    order = sorted((c for c in chains if c.visible or hidden == "faint"), key=lambda c: (c.visible, -c.kind))
+    for c in order:
+        drawer.draw(c)
+    times["brush"], times["deposit"] = drawer.times.brush, drawer.times.deposit
+    stats = {"faces": int(len(surface.faces)), "vertices": int(len(surface.vertices)),
+             **_line_stats(lines, chains, view.size), "strokes": drawer.times.strokes,
+             "frames": drawer.times.frames, "seconds": times}
+    return Drawing(drawer.paper, camera, chains, depth, lines, stats)

@@ -1,0 +1,153 @@
+"""Chains as brush motions: styles as data, the press profile of a stroke, and the drawing.
+
+A style (JSON under outline3d/styles/, or a file) names the brush preset, how many mm the
+image's longer side spans on the paper (so the brush's size against the drawing), tilt, step,
+the press depth per line kind (fraction of the tuft length L below first contact; silhouettes
+heavier than creases), the calligraphic entry (a press `entry_press` times the line's over
+`entry_mm`) and exit (a taper to `exit_press` times it over `exit_mm`, lifting while moving),
+the ink (mm^2 per dip; `dip_mm` of drawn line between dips, 0: before every chain), how hidden
+lines are drawn under --hidden faint, and the chains' minimum length (of the image diagonal)
+and smoothing.
+"""
+from __future__ import annotations
+
+import json
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..brush import Brush
+from ..paper import Paper
+from ..recorded import along_path
+from ..scene import Scene
+from .lines import KINDS
+
+STYLE_DIR = Path(__file__).with_name("styles")
+APPROACH_FRAMES = 2     # frames of the descent onto the first point
+LIFT_FRAMES = 3         # frames of the lift after the last
+HOVER = 0.08            # L above first contact between strokes
+ENTRY_START = 0.0       # of the line's press where the tip first touches
+ENTRY_PEAK = 0.4        # of the entry where the entry press is deepest
+
+
+@dataclass
+class OutlineStyle:
+    name: str
+    description: str
+    preset: str
+    paper_mm: float
+    tilt_deg: float
+    step_mm: float
+    press: dict
+    entry_mm: float
+    entry_press: float
+    exit_mm: float
+    exit_press: float
+    ink_mm2: float
+    dip_mm: float
+    hidden_alpha: float
+    hidden_press: float
+    min_length: float
+    smooth_passes: int
+    scene: dict = field(default_factory=dict)
+
+    @classmethod
+    def names(cls) -> list[str]:
+        return sorted(p.stem for p in STYLE_DIR.glob("*.json"))
+
+    @classmethod
+    def load(cls, spec: str) -> "OutlineStyle":
+        """A bundled style by name, or a JSON file; ValueError names what is wrong."""
+        path = Path(spec) if spec.endswith(".json") or os.sep in spec else STYLE_DIR / f"{spec}.json"
+        if not path.is_file():
+            raise ValueError(f"outline style {spec!r}: not a bundled style ({', '.join(cls.names())}) nor a JSON file")
+        try:
+            data = json.loads(path.read_text(encoding="utf-8"))
+            style = cls(**data)
+        except (json.JSONDecodeError, TypeError, UnicodeDecodeError) as err:
+            raise ValueError(f"outline style {path}: {err}") from None
+        style.validate()
+        return style
+
+    def validate(self) -> None:
+        missing = [k for k in KINDS if k not in self.press]
+        if missing:
+            raise ValueError(f"outline style {self.name}: press lacks {', '.join(missing)}")
+        positive = {"paper_mm": self.paper_mm, "step_mm": self.step_mm, "ink_mm2": self.ink_mm2}
+        bad = [k for k, v in positive.items() if not (isinstance(v, (int, float)) and v > 0)]
+        if bad:
+            raise ValueError(f"outline style {self.name}: {', '.join(bad)} must be > 0")
+        Scene(**self.scene)
+
+
+def press_profile(s: np.ndarray, base: float, style: OutlineStyle) -> np.ndarray:
+    """(k,) press depth at arc lengths s (mm) of a stroke of press `base`: the tip touches down
+    light (ENTRY_START of it) while already moving, presses to `entry_press` times it within
+    the first ENTRY_PEAK of `entry_mm`, eases back to `base` by `entry_mm`, and tapers to
+    `exit_press` times it over the last `exit_mm`.  Short strokes scale entry and exit down."""
+    total = float(s[-1]) if len(s) else 0.0
+    share = min(1.0, 0.5 * total / max(style.entry_mm + style.exit_mm, 1e-9))
+    entry, exit_ = style.entry_mm * share, style.exit_mm * share
+    p = np.full(len(s), base)
+    if entry > 0:
+        p *= np.interp(s, [0.0, ENTRY_PEAK * entry, entry], [ENTRY_START, style.entry_press, 1.0])
+    if exit_ > 0:
+        p *= np.interp(total - s, [0.0, exit_], [style.exit_press, 1.0])
+    return p
+
+
+@dataclass
+class StrokeTimes:
+    brush: float = 0.0     # s in Brush.step
+    deposit: float = 0.0   # s in Paper.deposit
+    strokes: int = 0
+    frames: int = 0
+
+
+class OutlineDrawer:
+    """Draws chains (px, y down, on a W x H image) with one brush on one paper."""
+
+    def __init__(self, style: OutlineStyle, size: tuple[int, int]):
+        self.style = style
+        w, h = size
+        self.ppm = max(w, h) / style.paper_mm
+        self.height_px = h
+        self.paper = Paper(w / self.ppm, h / self.ppm, self.ppm, scene=Scene(**style.scene))
+        self.brush = Brush(style.preset)
+        self.times = StrokeTimes()
+        self._since_dip = None
+
+    def _dip(self, alpha: float, length_mm: float) -> None:
+        st = self.style
+        if self._since_dip is None or st.dip_mm <= 0 or self._since_dip >= st.dip_mm:
+            self.brush.load_ink(total_mm2=st.ink_mm2, ramp=[(0.0, 0.0, 0.0, 1.0)])
+            self._since_dip = 0.0
+        self.brush.ink.ramp = [(0.0, 0.0, 0.0, float(alpha))]
+        self._since_dip += length_mm
+
+    def draw(self, chain) -> None:
+        """One chain as one stroke: descend, move along it with the style's press, lift."""
+        st = self.style
+        pts = np.column_stack([chain.points[:, 0], self.height_px - chain.points[:, 1]]) / self.ppm
+        if chain.closed:
+            pts = np.vstack([pts, pts[1:3]])              # close the loop, a little overlap
+        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+        if s[-1] <= 0:
+            return
+        base = st.press[KINDS[chain.kind]] * (1.0 if chain.visible else st.hidden_press)
+        self._dip(1.0 if chain.visible else st.hidden_alpha, float(s[-1]))
+        poses = along_path(self.brush.model, pts, press_profile(s, base, st), st.tilt_deg, None,
+                           step_mm=st.step_mm, approach_frames=APPROACH_FRAMES, lift_frames=LIFT_FRAMES, hover=HOVER)
+        for pose in poses:
+            t0 = time.perf_counter()
+            self.brush.step(pose)
+            t1 = time.perf_counter()
+            self.paper.deposit(self.brush)
+            self.times.brush += t1 - t0
+            self.times.deposit += time.perf_counter() - t1
+        self.paper.end_stroke()
+        self.times.strokes += 1
+        self.times.frames += len(poses)
