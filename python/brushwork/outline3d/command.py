@@ -66,8 +66,16 @@ def numbered(path: str, k: int, frames: int) -> str:
     return f"{stem}_{k:03d}{ext}"
 
 
+def _write_text(path: str, text: str) -> None:
+    from pathlib import Path
+
+    from ..files import write_atomic
+
+    write_atomic(path, lambda tmp: Path(tmp).write_text(text + "\n", encoding="utf-8"))
+
+
 def run(args: argparse.Namespace) -> int:
-    from ..files import check_writable, write_atomic
+    from ..files import check_writable
     from .draw import View, draw, load_mesh
     from .lines import prepare
     from .strokes import OutlineStyle
@@ -93,10 +101,10 @@ def run(args: argparse.Namespace) -> int:
         out = drawing.paper.save(numbered(args.output, k, args.frames))
         if args.camera_json:
             text = json.dumps(drawing.camera.to_json())
-            write_atomic(numbered(args.camera_json, k, args.frames), lambda tmp: open(tmp, "w").write(text + "\n"))
+            _write_text(numbered(args.camera_json, k, args.frames), text)
         frames.append({"output": out, "azimuth": view.azimuth, **drawing.stats})
         print(f"wrote {out} ({drawing.stats['chains']} chains, {drawing.stats['strokes']} strokes)")
     if args.stats:
         text = json.dumps({"mesh": os.fspath(args.mesh), "style": style.name, "frames": frames}, indent=1)
-        write_atomic(args.stats, lambda tmp: open(tmp, "w").write(text + "\n"))
+        _write_text(args.stats, text)
     return 0
