@@ -9,9 +9,11 @@ Per view, against the depth buffer of the mesh (the truth the drawing is judged 
 - seconds per phase (load, lines, visibility, chaining, brush, deposit).
 Orbit coherence: over an orbit of ORBIT_VIEWS views, the ink of each view carried into the next
 through its depth (each ink pixel lifted onto the nearest surface under it and projected by the
-next camera) against the next view's ink: IoU of the two, each widened by COHERENCE_PX.  A
-contour that slides smoothly over the surface keeps a high IoU; chains that appear or vanish
-from one view to the next lower it.
+next camera) against the next view's ink: the IoU of the two, each widened by COHERENCE_PX, and
+the F-measure at TOL (as for boundaries in image segmentation).  A contour slides over the
+surface as the view turns (10 degrees move a sphere's contour points 1.5% of its radius inward),
+which the strict IoU counts against it and the F-measure forgives; chains that appear or vanish
+from one view to the next lower both.
 A procedural bumpy torus of SYNTH_FACES faces, written to a temporary PLY, is measured too (the
 time target of a large mesh).
 """
@@ -107,20 +109,27 @@ def _lift(ink: np.ndarray, depth: np.ndarray, camera) -> np.ndarray:
     return v[:, :3] / v[:, 3:4]
 
 
-def coherence(a, b) -> float:
-    """IoU of view a's ink carried into view b against b's ink, both widened by COHERENCE_PX."""
+def coherence(a, b) -> tuple[float, float]:
+    """View a's ink carried into view b against b's ink: (IoU of the two, each widened by
+    COHERENCE_PX; F-measure at TOL: the harmonic mean of the share of b's ink near the carried
+    ink and of the carried ink near b's)."""
     import cv2
 
     w, h = b.camera.size
     ink_a, ink_b = a.paper.ink() > INK, b.paper.ink() > INK
     q = b.camera.project(_lift(ink_a, a.depth, a.camera))
-    carried = np.zeros((h, w), np.uint8)
+    carried = np.zeros((h, w), bool)
     inside = (q[:, 0] >= 0) & (q[:, 0] < w) & (q[:, 1] >= 0) & (q[:, 1] < h)
-    carried[q[inside, 1].astype(int), q[inside, 0].astype(int)] = 1
+    carried[q[inside, 1].astype(int), q[inside, 0].astype(int)] = True
     kernel = np.ones((2 * COHERENCE_PX + 1,) * 2, np.uint8)
-    ma, mb = cv2.dilate(carried, kernel).astype(bool), cv2.dilate(ink_b.astype(np.uint8), kernel).astype(bool)
+    ma = cv2.dilate(carried.astype(np.uint8), kernel).astype(bool)
+    mb = cv2.dilate(ink_b.astype(np.uint8), kernel).astype(bool)
     union = (ma | mb).sum()
-    return float((ma & mb).sum() / union) if union else 1.0
+    iou = float((ma & mb).sum() / union) if union else 1.0
+    tol = TOL * max(w, h)
+    p = float(np.mean(_mask_distance(carried)[ink_b] <= tol)) if ink_b.any() else 0.0
+    r = float(np.mean(_mask_distance(ink_b)[carried] <= tol)) if carried.any() else 0.0
+    return iou, (2 * p * r / (p + r) if p + r > 0 else 0.0)
 
 
 def bumpy_torus(faces: int = SYNTH_FACES):
@@ -160,7 +169,7 @@ def _measure(path: Path, args, progress) -> dict:
             for k in range(VIEWS)]
     orbit = [draw(surface, View(360.0 * k / ORBIT_VIEWS, 20.0, 30.0, (args.orbit_size,) * 2), style)
              for k in range(ORBIT_VIEWS)]
-    iou = [coherence(orbit[k], orbit[(k + 1) % ORBIT_VIEWS]) for k in range(ORBIT_VIEWS)]
+    iou, f = zip(*[coherence(orbit[k], orbit[(k + 1) % ORBIT_VIEWS]) for k in range(ORBIT_VIEWS)])
     mean = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
     phases = ("lines", "visibility", "chaining", "brush", "deposit")
     out = {"mesh": path.name, "faces": len(surface.faces), "recall": mean["recall"],
@@ -168,10 +177,11 @@ def _measure(path: Path, args, progress) -> dict:
            "precision_min": min(r["precision"] for r in rows), "median_chain": mean["median_chain"],
            "chains": mean["chains"], "strokes": mean["strokes"], "load": load,
            **{p: mean[p] for p in phases}, "seconds": load + sum(mean[p] for p in phases),
-           "orbit_iou": float(np.mean(iou)), "orbit_iou_min": float(np.min(iou))}
+           "orbit_iou": float(np.mean(iou)), "orbit_iou_min": float(np.min(iou)), "orbit_f": float(np.mean(f)),
+           "orbit_f_min": float(np.min(f))}
     if progress:
         progress(f"{path.name}: recall {out['recall']:.3f} precision {out['precision']:.3f} "
-                 f"{out['seconds']:.2f} s/view orbit IoU {out['orbit_iou']:.3f}")
+                 f"{out['seconds']:.2f} s/view orbit IoU {out['orbit_iou']:.3f} F {out['orbit_f']:.3f}")
     return out
 
 
@@ -190,7 +200,7 @@ def run(args, progress=None) -> dict:
 def table(result: dict) -> str:
     cols = ["mesh", "faces", "recall", "recall_min", "precision", "precision_min", "median_chain", "chains",
             "strokes", "seconds", "load", "lines", "visibility", "chaining", "brush", "deposit", "orbit_iou",
-            "orbit_iou_min"]
+            "orbit_iou_min", "orbit_f", "orbit_f_min"]
     head = (f"3-D outlines, style {result['style']}, {result['size']} px, {result['views']} views per mesh "
             f"(means; _min: the worst view); tolerance {result['tol']:.1%} of the image; orbit of "
             f"{result['orbit_views']} views; seconds per view, load once per mesh\n")

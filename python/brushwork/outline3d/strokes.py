@@ -85,18 +85,16 @@ class OutlineStyle:
 
 def press_profile(s: np.ndarray, base: float, style: OutlineStyle) -> np.ndarray:
     """(k,) press depth at arc lengths s (mm) of a stroke of press `base`: the tip touches down
-    light (ENTRY_START of it) while already moving, presses to `entry_press` times it within
-    the first ENTRY_PEAK of `entry_mm`, eases back to `base` by `entry_mm`, and tapers to
-    `exit_press` times it over the last `exit_mm`.  Short strokes scale entry and exit down."""
+    light (ENTRY_START of it) while already moving, presses to `entry_press` times it
+    ENTRY_PEAK of the way into `entry_mm` and eases back to `base` by its end; over the last
+    `exit_mm` it tapers to `exit_press` times it.  The deeper of the two envelopes never
+    wins: a stroke shorter than its entry and exit stays lighter, its press never rising
+    faster than the entry's (a quick press of the straight tuft lays a blot)."""
     total = float(s[-1]) if len(s) else 0.0
-    share = min(1.0, 0.5 * total / max(style.entry_mm + style.exit_mm, 1e-9))
-    entry, exit_ = style.entry_mm * share, style.exit_mm * share
-    p = np.full(len(s), base)
-    if entry > 0:
-        p *= np.interp(s, [0.0, ENTRY_PEAK * entry, entry], [ENTRY_START, style.entry_press, 1.0])
-    if exit_ > 0:
-        p *= np.interp(total - s, [0.0, exit_], [style.exit_press, 1.0])
-    return p
+    entry = np.interp(s, [0.0, ENTRY_PEAK * style.entry_mm, style.entry_mm],
+                      [ENTRY_START, style.entry_press, 1.0])
+    exit_ = np.interp(total - s, [0.0, style.exit_mm], [style.exit_press, 1.0])
+    return base * np.minimum(entry, exit_)
 
 
 @dataclass
