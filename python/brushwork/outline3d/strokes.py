@@ -19,7 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..brush import Brush
+from .. import _core
+from ..brush import Brush, Pose
 from ..paper import Paper
 from ..recorded import along_path
 from ..scene import Scene
@@ -31,6 +32,7 @@ LIFT_FRAMES = 3         # frames of the lift after the last
 HOVER = 0.08            # L above first contact between strokes
 ENTRY_START = 0.0       # of the line's press where the tip first touches
 ENTRY_PEAK = 0.4        # of the entry where the entry press is deepest
+OFFSET_GAIN = 0.25      # of the footprint centre's miss added to the root's offset each frame
 
 
 @dataclass
@@ -117,6 +119,7 @@ class OutlineDrawer:
         self.brush = Brush(style.preset)
         self.times = StrokeTimes()
         self._since_dip = None
+        self.offset = np.zeros(2)      # mm, root - footprint centre along and across the heading
 
     def _dip(self, alpha: float, length_mm: float) -> None:
         st = self.style
@@ -139,13 +142,31 @@ class OutlineDrawer:
         self._dip(1.0 if chain.visible else st.hidden_alpha, float(s[-1]))
         poses = along_path(self.brush.model, pts, press_profile(s, base, st), st.tilt_deg, None,
                            step_mm=st.step_mm, approach_frames=APPROACH_FRAMES, lift_frames=LIFT_FRAMES, hover=HOVER)
-        for pose in poses:
-            t0 = time.perf_counter()
-            self.brush.step(pose)
-            t1 = time.perf_counter()
-            self.paper.deposit(self.brush)
-            self.times.brush += t1 - t0
-            self.times.deposit += time.perf_counter() - t1
+        self._follow(poses)
         self.paper.end_stroke()
         self.times.strokes += 1
         self.times.frames += len(poses)
+
+    def _follow(self, poses: list) -> None:
+        """Step and deposit along `poses`, the root shifted so that the footprint's centre (not
+        the root, which the tilted, trailing tuft leaves behind and beside the line) follows the
+        path.  The shift is kept in the path's frame (along, across the heading), where it hardly
+        changes, learns OFFSET_GAIN of each frame's miss there, and carries over from stroke to
+        stroke; it never exceeds a tuft length."""
+        reach = self.brush.model.tuft_length
+        for pose in poses:
+            a = np.radians(pose.azimuth_deg)
+            frame = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])   # columns: along, across
+            target = np.asarray(pose.position[:2], dtype=float)
+            root = target + frame @ self.offset
+            t0 = time.perf_counter()
+            self.brush.step(Pose((root[0], root[1], pose.position[2]), pose.tilt_deg, pose.azimuth_deg))
+            t1 = time.perf_counter()
+            self.paper.deposit(self.brush)
+            loops = self.brush.footprint()
+            seen = _core.footprint_span(loops, float(a)) if loops else None
+            if seen is not None:
+                self.offset += OFFSET_GAIN * (frame.T @ (target - np.asarray(seen[0])))
+                self.offset *= min(1.0, reach / max(float(np.hypot(*self.offset)), 1e-12))
+            self.times.brush += t1 - t0
+            self.times.deposit += time.perf_counter() - t1
