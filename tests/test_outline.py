@@ -150,7 +150,8 @@ def test_damaged_meshes_warn_and_draw(tmp_path, capsys):
     out = tmp_path / "d.png"
     assert main(["outline", src, "-o", str(out), "--size", "96"]) == 0
     err = capsys.readouterr().err
-    assert "non-finite" in err and "degenerate" in err and out.exists()
+    assert "non-finite" in err and "degenerate" in err and "no_such_texture.png" in err and out.exists()
+    assert all(line.startswith("brushwork: warning:") for line in err.splitlines())
 
 
 def test_cli_usage_errors_and_orbit(tmp_path):

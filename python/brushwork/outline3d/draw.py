@@ -51,6 +51,33 @@ class _Collect(logging.Handler):
         self.messages.append(" ".join(record.getMessage().split())[:200])
 
 
+def _missing_files(path: str) -> list[str]:
+    """Warnings for an OBJ's material libraries and textures that are not there (the mesh is
+    drawn all the same: outlines need no texture)."""
+    if not path.lower().endswith(".obj"):
+        return []
+    folder, notes = os.path.dirname(os.path.abspath(path)), []
+
+    def refs(text: str, keys: tuple) -> list[str]:
+        return [line.split(None, 1)[1].strip() for line in text.splitlines()
+                if line.strip() and line.split(None, 1)[0] in keys and len(line.split(None, 1)) > 1]
+
+    with open(path, encoding="utf-8", errors="replace") as f:
+        libraries = refs(f.read(), ("mtllib",))
+    for lib in libraries:
+        lib_path = os.path.join(folder, lib)
+        if not os.path.isfile(lib_path):
+            notes.append(f"material library {lib} is missing (drawn without it)")
+            continue
+        with open(lib_path, encoding="utf-8", errors="replace") as f:
+            maps = refs(f.read(), ("map_Kd", "map_Ka", "map_Ks", "map_Bump", "map_d", "bump"))
+        for tex in maps:
+            name = tex.split()[-1]
+            if not os.path.isfile(os.path.join(os.path.dirname(lib_path), name)):
+                notes.append(f"texture {name} of {lib} is missing (drawn without it)")
+    return notes
+
+
 def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
     """(n, 3) vertices, (m, 3) faces and warnings of a mesh file (OBJ, PLY, STL, OFF, GLB/glTF,
     through trimesh; a scene's meshes are joined in their placed positions).  ValueError with
@@ -74,7 +101,7 @@ def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
     vertices = np.asarray(getattr(loaded, "vertices", np.zeros((0, 3))))
     if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise ValueError(f"{path}: no triangles in the file")
-    return vertices, faces, catch.messages
+    return vertices, faces, _missing_files(path) + catch.messages
 
 
 def _median_length(chains: list, diagonal: float) -> float:
