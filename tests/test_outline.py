@@ -169,3 +169,15 @@ def test_cli_usage_errors_and_orbit(tmp_path):
     frames = json.loads(stats.read_text())["frames"]
     assert [f["azimuth"] for f in frames] == [30.0, 150.0, 270.0]
     assert set(frames[0]["seconds"]) >= {"load", "lines", "visibility", "chaining", "brush", "deposit"}
+
+
+def test_faces_wound_against_their_neighbours_are_turned_over():
+    ball = trimesh.creation.icosphere(subdivisions=2)
+    faces = ball.faces.copy()
+    faces[::7] = faces[::7, ::-1]                               # every 7th face inside out
+    surface = prepare(ball.vertices, faces)
+    assert any("turned over" in note for note in surface.notes)
+    radial = surface.vertices / np.linalg.norm(surface.vertices, axis=1, keepdims=True)
+    assert np.all(np.einsum("ij,ij->i", surface.normals, radial) > 0.99)          # outward, all of them
+    d = draw(surface, View(30.0, 20.0, 30.0, (SIZE, SIZE)), OutlineStyle.load("baimiao"))
+    assert len(_chains(d, SILHOUETTE)) == 1

@@ -73,7 +73,9 @@ def _clean_faces(vertices: np.ndarray, faces: np.ndarray, notes: list) -> tuple[
     cross = np.cross(vertices[f[:, 1]] - vertices[f[:, 0]], vertices[f[:, 2]] - vertices[f[:, 0]])
     area = np.linalg.norm(cross, axis=1)
     keep = area > 1e-12 * max(float(area.max(initial=0.0)), 1e-300)
-    _, once = np.unique(np.sort(f[keep], axis=1), axis=0, return_index=True)
+    corners = np.sort(f[keep], axis=1)
+    n = int(faces.max()) + 1
+    _, once = np.unique((corners[:, 0] * n + corners[:, 1]) * n + corners[:, 2], return_index=True)
     once = np.sort(once)
     dropped = len(faces) - len(once)
     if dropped:
@@ -83,8 +85,10 @@ def _clean_faces(vertices: np.ndarray, faces: np.ndarray, notes: list) -> tuple[
 
 def _edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Unique edges (e, 2), face_edges (m, 3), faces per edge (e,), edge_faces (e, 2)."""
-    sides = np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2)   # (3m, 2)
-    edges, inverse = np.unique(np.sort(sides, axis=1), axis=0, return_inverse=True)
+    sides = np.sort(np.stack([faces, np.roll(faces, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)   # (3m, 2)
+    n = int(faces.max()) + 1
+    keys, inverse = np.unique(sides[:, 0] * n + sides[:, 1], return_inverse=True)   # one integer per edge
+    edges = np.stack([keys // n, keys % n], axis=1)
     inverse = inverse.reshape(-1)
     count = np.bincount(inverse, minlength=len(edges))
     order = np.argsort(inverse, kind="stable")
@@ -94,6 +98,40 @@ def _edges(faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nd
     edge_faces[two, 0] = order[start[two]] // 3
     edge_faces[two, 1] = order[start[two] + 1] // 3
     return edges, inverse.reshape(-1, 3), count, edge_faces
+
+
+def _orient(faces: np.ndarray, face_edges: np.ndarray, edge_faces: np.ndarray) -> np.ndarray:
+    """(m,) bool: the faces to turn over so that every two faces sharing a manifold edge run it
+    in opposite directions (consistent winding within each connected piece; a piece that cannot
+    be made consistent, a Moebius band, keeps what the walk found first)."""
+    m = len(faces)
+    ahead = faces < np.roll(faces, -1, axis=1)             # (m, 3): side k runs low -> high vertex
+    e = np.flatnonzero(edge_faces[:, 0] >= 0)
+    f, g = edge_faces[e, 0], edge_faces[e, 1]
+    kf = np.argmax(face_edges[f] == e[:, None], axis=1)
+    kg = np.argmax(face_edges[g] == e[:, None], axis=1)
+    same = ahead[f, kf] == ahead[g, kg]                    # one direction in both: one must turn
+    # CSR neighbour lists over both directions of each shared edge
+    src, dst, par = np.concatenate([f, g]), np.concatenate([g, f]), np.concatenate([same, same])
+    order = np.argsort(src, kind="stable")
+    start = np.concatenate([[0], np.cumsum(np.bincount(src, minlength=m))]).tolist()
+    dst, par = dst[order].tolist(), par[order].tolist()
+    flip = [False] * m
+    seen = [False] * m
+    for root in range(m):
+        if seen[root]:
+            continue
+        seen[root] = True
+        stack = [root]
+        while stack:
+            a = stack.pop()
+            for k in range(start[a], start[a + 1]):
+                b = dst[k]
+                if not seen[b]:
+                    seen[b] = True
+                    flip[b] = flip[a] ^ par[k]
+                    stack.append(b)
+    return np.array(flip, dtype=bool)
 
 
 def _unit(a: np.ndarray) -> np.ndarray:
@@ -118,6 +156,14 @@ def prepare(vertices, faces) -> Surface:
     f, cross = _clean_faces(v, f, notes)
     if len(f) == 0:
         raise MeshError("the mesh has no face of non-zero area")
+    _, face_edges, _, edge_faces = _edges(f)
+    flip = _orient(f, face_edges, edge_faces)
+    if flip.any():
+        # the smaller share is the one out of line
+        flip = flip if flip.sum() <= len(f) / 2 else ~flip
+        notes.append(f"{int(flip.sum())} face(s) wound against their neighbours turned over")
+        f[flip] = f[flip][:, ::-1]
+        cross[flip] = -cross[flip]
     normals = np.zeros_like(v)
     for k in range(3):
         np.add.at(normals, f[:, k], cross)       # area-weighted vertex normals
