@@ -7,7 +7,7 @@ import pytest
 trimesh = pytest.importorskip("trimesh")
 
 from brushwork.cli import main  # noqa: E402
-from brushwork.outline3d import View, draw, fit, prepare  # noqa: E402
+from brushwork.outline3d import View, draw, fit, load_mesh, prepare  # noqa: E402
 from brushwork.outline3d.lines import BOUNDARY, CREASE, SILHOUETTE  # noqa: E402
 from brushwork.outline3d.strokes import OutlineStyle  # noqa: E402
 from brushwork.bench.outline import score  # noqa: E402
@@ -181,3 +181,15 @@ def test_faces_wound_against_their_neighbours_are_turned_over():
     assert np.all(np.einsum("ij,ij->i", surface.normals, radial) > 0.99)          # outward, all of them
     d = draw(surface, View(30.0, 20.0, 30.0, (SIZE, SIZE)), OutlineStyle.load("baimiao"))
     assert len(_chains(d, SILHOUETTE)) == 1
+
+
+@pytest.mark.parametrize("scale, offset", [(1e-3, 3e7), (1e40, 0.0)])
+def test_any_units_and_any_place(tmp_path, scale, offset):
+    ball = trimesh.creation.icosphere(subdivisions=2)
+    v = ball.vertices * scale + offset
+    src = tmp_path / "ball.obj"
+    src.write_text("".join("v %r %r %r\n" % tuple(float(x) for x in p) for p in v)
+                   + "".join("f %d %d %d\n" % tuple(int(i) + 1 for i in f) for f in ball.faces))
+    d = draw(prepare(*load_mesh(src)[:2]),
+             View(30.0, 20.0, 30.0, (SIZE, SIZE)), OutlineStyle.load("baimiao"))
+    assert len(_chains(d, SILHOUETTE)) == 1 and score(d)["recall"] >= 0.95

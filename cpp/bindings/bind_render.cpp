@@ -58,7 +58,7 @@ py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm
 
 // render_depth: the depth pass of the 3-D outlines
 void bind_depth(py::module_& m) {
-  m.def("render_depth", [](const py::array_t<float, py::array::c_style | py::array::forcecast>& vertices,
+  m.def("render_depth", [](const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
                            const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& faces,
                            const py::array_t<double, py::array::c_style | py::array::forcecast>& matrix,
                            int width, int height) {

@@ -48,7 +48,7 @@ void check_input(int n_vertices, const std::int64_t* faces, int n_faces, int wid
 
 // GL clip coordinates (x, y, z, w) per vertex from p = M [v, 1]: x_ndc = 2 p0 / (W p3) - 1,
 // y_ndc = 1 - 2 p1 / (H p3) (the image's y runs down), z_ndc = p2 / p3
-std::vector<float> clip_positions(const float* v, int n, const double* M, int W, int H) {
+std::vector<float> clip_positions(const double* v, int n, const double* M, int W, int H) {
   std::vector<float> out(static_cast<std::size_t>(n) * 4);
   for (int i = 0; i < n; ++i) {
     double p[4];
@@ -115,7 +115,7 @@ void read_depth(int W, int H, float* out) {
 
 }  // namespace
 
-void render_depth(const float* vertices, int n_vertices, const std::int64_t* faces, int n_faces,
+void render_depth(const double* vertices, int n_vertices, const std::int64_t* faces, int n_faces,
                   const double* matrix, int width, int height, float* out) {
   check_input(n_vertices, faces, n_faces, width, height);
   auto ctx = RenderContext::acquire();

@@ -66,7 +66,7 @@ def truth(drawing) -> tuple[np.ndarray, np.ndarray]:
     depth, camera = drawing.depth, drawing.camera
     area = np.isfinite(depth)
     rim = area & ~cv2.erode(area.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-    dist = np.where(area, camera.eye_distance(np.where(area, depth, 0.0)), 0.0)
+    dist = np.where(area, camera.eye_distance(np.where(area, depth, 0.0).astype(np.float64)), 0.0)
     diag = float(np.linalg.norm(drawing.lines.points.max(axis=0) - drawing.lines.points.min(axis=0))) \
         if len(drawing.lines.points) else 1.0
     jump = np.zeros_like(area)

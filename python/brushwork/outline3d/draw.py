@@ -138,8 +138,11 @@ def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KIN
     drawer = OutlineDrawer(style, view.size)
     # hidden lines first, faint, under the visible ones; silhouettes last, on top
     order = sorted((c for c in chains if c.visible or hidden == "faint"), key=lambda c: (c.visible, -c.kind))
-    for c in order:
-        drawer.draw(c)
+    dist = [camera.eye_distance(c.depth) for c in order]
+    lo = min((float(d.min()) for d in dist), default=0.0)
+    hi = max((float(d.max()) for d in dist), default=1.0)
+    for c, d in zip(order, dist):
+        drawer.draw(c, (hi - d) / max(hi - lo, 1e-300))
     times["brush"], times["deposit"] = drawer.times.brush, drawer.times.deposit
     stats = {"faces": int(len(surface.faces)), "vertices": int(len(surface.vertices)),
              **_line_stats(lines, chains, view.size), "strokes": drawer.times.strokes,

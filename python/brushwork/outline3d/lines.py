@@ -21,6 +21,7 @@ import numpy as np
 
 KINDS = ("silhouette", "boundary", "crease", "suggestive")
 SILHOUETTE, BOUNDARY, CREASE, SUGGESTIVE = range(4)
+MAX_COORDINATE = 1e100      # larger coordinates overflow the squares of lengths
 WELD = 1e-6                 # vertices closer than this fraction of the bounding diagonal are one
 SUGGESTIVE_RISE = 0.02      # D_w(D_w g) per unit of g's range over the diagonal below which a zero is dropped
 SUGGESTIVE_GRAZING = 0.5    # suggestive contours only where g = n . v is below this
@@ -152,8 +153,12 @@ def prepare(vertices, faces) -> Surface:
         f = f[np.all(finite[f], axis=1)]
     if len(f) == 0:
         raise MeshError("the mesh has no faces with finite vertices")
+    if np.abs(v[f]).max() > MAX_COORDINATE:
+        raise MeshError(f"the mesh has coordinates beyond {MAX_COORDINATE:g}")
     v, f = _weld(v, f)
-    f, cross = _clean_faces(v, f, notes)
+    # normals and areas from coordinates scaled to about one, whatever the mesh's units
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    f, cross = _clean_faces((v - lo) / max(float(np.max(hi - lo)), 1e-300), f, notes)
     if len(f) == 0:
         raise MeshError("the mesh has no face of non-zero area")
     _, face_edges, _, edge_faces = _edges(f)

@@ -6,8 +6,8 @@ the press depth per line kind (fraction of the tuft length L below first contact
 heavier than creases), the calligraphic entry (a press `entry_press` times the line's over
 `entry_mm`) and exit (a taper to `exit_press` times it over `exit_mm`, lifting while moving),
 the ink (mm^2 per dip; `dip_mm` of drawn line between dips, 0: before every chain), how hidden
-lines are drawn under --hidden faint, and the chains' minimum length (of the image diagonal)
-and smoothing.
+lines are drawn under --hidden faint, the chains' minimum length (of the image diagonal) and
+smoothing, and `depth_press`: how much nearer lines are pressed harder than farther ones.
 """
 from __future__ import annotations
 
@@ -55,6 +55,7 @@ class OutlineStyle:
     min_length: float
     smooth_passes: int
     scene: dict = field(default_factory=dict)
+    depth_press: float = 0.0     # nearest lines pressed 1 + this/2 times, farthest 1 - this/2
 
     @classmethod
     def names(cls) -> list[str]:
@@ -129,18 +130,23 @@ class OutlineDrawer:
         self.brush.ink.ramp = [(0.0, 0.0, 0.0, float(alpha))]
         self._since_dip += length_mm
 
-    def draw(self, chain) -> None:
-        """One chain as one stroke: descend, move along it with the style's press, lift."""
+    def draw(self, chain, nearness: np.ndarray | None = None) -> None:
+        """One chain as one stroke: descend, move along it with the style's press, lift.
+        nearness: (k,) per point of the chain, 1 at the nearest line of the view, 0 at the
+        farthest (None: all 0.5), scaling the press by the style's depth_press."""
         st = self.style
         pts = np.column_stack([chain.points[:, 0], self.height_px - chain.points[:, 1]]) / self.ppm
+        near = np.full(len(pts), 0.5) if nearness is None else np.asarray(nearness, dtype=float)
         if chain.closed:
             pts = np.vstack([pts, pts[1:3]])              # close the loop, a little overlap
+            near = np.concatenate([near, near[1:3]])
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
         if s[-1] <= 0:
             return
         base = st.press[KINDS[chain.kind]] * (1.0 if chain.visible else st.hidden_press)
         self._dip(1.0 if chain.visible else st.hidden_alpha, float(s[-1]))
-        poses = along_path(self.brush.model, pts, press_profile(s, base, st), st.tilt_deg, None,
+        press = press_profile(s, base, st) * (1.0 + st.depth_press * (near - 0.5))
+        poses = along_path(self.brush.model, pts, press, st.tilt_deg, None,
                            step_mm=st.step_mm, approach_frames=APPROACH_FRAMES, lift_frames=LIFT_FRAMES, hover=HOVER)
         self._follow(poses)
         self.paper.end_stroke()

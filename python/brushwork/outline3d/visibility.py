@@ -15,24 +15,23 @@ from .. import _core
 
 TOL_PX = 2.0          # pixels' width at the sample's depth
 TOL_RADIUS = 0.004    # of the bounding sphere's radius
-FAR = 1e30            # stands for "no surface" in the distance image
+FAR = np.inf          # stands for "no surface" in the distance image
 
 
 def depth_image(surface, camera) -> np.ndarray:
     """(H, W) float32 depth p2/p3 of the nearest surface per pixel, +inf where none."""
     w, h = camera.size
-    return _core.render_depth(np.ascontiguousarray(surface.vertices, dtype=np.float32),
+    return _core.render_depth(np.ascontiguousarray(surface.vertices, dtype=np.float64),
                               np.ascontiguousarray(surface.faces, dtype=np.int64), camera.matrix, w, h)
 
 
 def farthest_near(depth: np.ndarray, camera) -> np.ndarray:
-    """(H, W) the largest eye distance over each pixel's 3 x 3 block (FAR for background)."""
+    """(H, W) float64 the largest eye distance over each pixel's 3 x 3 block (FAR for background)."""
     import cv2
 
     covered = np.isfinite(depth)
     dist = np.where(covered, camera.eye_distance(np.where(covered, depth, 0.0).astype(np.float64)), FAR)
-    dist = dist.astype(np.float32)
-    return cv2.dilate(dist, np.ones((3, 3), np.uint8))
+    return cv2.dilate(dist, np.ones((3, 3), np.uint8))       # float64: mesh units of any size
 
 
 def visible(samples: np.ndarray, block_far: np.ndarray, camera, radius: float) -> np.ndarray:
