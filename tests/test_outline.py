@@ -78,9 +78,12 @@ def test_line_behind_a_box_is_not_drawn():
     sheet = trimesh.Trimesh([[-0.5, -0.5, -3.0], [0.5, -0.5, -3.0], [0.5, 0.5, -3.0], [-0.5, 0.5, -3.0]],
                             [[0, 1, 2], [0, 2, 3]])
     view = View(0.0, 0.0, 20.0, (SIZE, SIZE))                  # the eye on +z: the sheet hides behind the box
-    d = _draw(trimesh.util.concatenate([box, sheet]), kinds=("boundary",), view=view)
-    assert not _chains(d, BOUNDARY) and _chains(_draw(trimesh.util.concatenate([box, sheet]), ("boundary",), view,
-                                                      "faint"), BOUNDARY, visible=False)
+    behind = trimesh.util.concatenate([box, sheet])
+    d = _draw(behind, kinds=("boundary",), view=view)
+    assert not _chains(d, BOUNDARY) and d.paper.ink().max() == 0      # nothing drawn
+    faint = _draw(behind, kinds=("boundary",), view=view, hidden="faint")
+    assert _chains(faint, BOUNDARY, visible=False)                    # it was found, and hidden
+    assert 0 < faint.paper.ink().max() < 0.5                          # drawn light
     aside = sheet.copy()
     aside.apply_translation([3.0, 0.0, 0.0])
     d = _draw(trimesh.util.concatenate([box, aside]), kinds=("boundary",), view=view)
@@ -88,30 +91,39 @@ def test_line_behind_a_box_is_not_drawn():
 
 
 def test_camera_json_puts_vertices_on_the_drawing(tmp_path):
-    mesh = trimesh.creation.icosphere(subdivisions=2)
+    import cv2
+
+    big = trimesh.creation.icosphere(subdivisions=2)
+    small = trimesh.creation.icosphere(subdivisions=2, radius=0.3).apply_translation([2.0, 1.2, 0.0])
+    mesh = trimesh.util.concatenate([big, small])
     mesh.apply_scale(37.0)
     mesh.apply_translation([100.0, -20.0, 5.0])                 # any units, anywhere
-    src, out, cam = tmp_path / "ball.ply", tmp_path / "ball.png", tmp_path / "cam.json"
+    src, out, cam = tmp_path / "balls.ply", tmp_path / "balls.png", tmp_path / "cam.json"
     mesh.export(src)
-    assert main([ "outline", str(src), "-o", str(out), "--size", str(SIZE), "--camera-json", str(cam),
-                  "--azimuth", "50", "--elevation", "-10"]) == 0
+    assert main(["outline", str(src), "-o", str(out), "--size", str(SIZE), "--camera-json", str(cam),
+                 "--azimuth", "20", "--elevation", "-10"]) == 0
     data = json.loads(cam.read_text())
     assert data["size"] == [SIZE, SIZE]
     M = np.array(data["matrix"])
     p = np.column_stack([mesh.vertices, np.ones(len(mesh.vertices))]) @ M.T
     xy = p[:, :2] / p[:, 3:4]
-    import cv2
-
     ink = cv2.imread(str(out), cv2.IMREAD_GRAYSCALE) < 128
     ys, xs = np.nonzero(ink)
-    # the outline hugs the projected vertices' extent (x right, y down from the top-left)
+    # the outline hugs the projected vertices' extent
     assert abs(xy[:, 0].min() - xs.min()) < 6 and abs(xy[:, 0].max() - xs.max()) < 6
     assert abs(xy[:, 1].min() - ys.min()) < 6 and abs(xy[:, 1].max() - ys.max()) < 6
+    # x right, y down from the top-left: the small ball's outline is where its vertices project,
+    # and not where a mirrored convention would put it
+    ball = xy[len(big.vertices):]
+    centre, radius = ball.mean(axis=0), np.ptp(ball, axis=0).max() / 2 + 4
+    def ink_near(c):
+        return int(np.sum(np.hypot(xs - c[0], ys - c[1]) < radius))
+    assert ink_near(centre) > 0
+    assert ink_near((SIZE - centre[0], centre[1])) == 0 and ink_near((centre[0], SIZE - centre[1])) == 0
     # depth p2/p3 grows away from the camera: the vertex nearest the eye has the least
-    camera = fit(mesh.vertices, (SIZE, SIZE), 50.0, -10.0, 30.0)
-    near = np.argmin(np.linalg.norm(mesh.vertices - camera.eye, axis=1))
-    far = np.argmax(np.linalg.norm(mesh.vertices - camera.eye, axis=1))
-    assert p[near, 2] / p[near, 3] < p[far, 2] / p[far, 3]
+    camera = fit(mesh.vertices, (SIZE, SIZE), 20.0, -10.0, 30.0)
+    dist = np.linalg.norm(mesh.vertices - camera.eye, axis=1)
+    assert p[dist.argmin(), 2] / p[dist.argmin(), 3] < p[dist.argmax(), 2] / p[dist.argmax(), 3]
 
 
 def test_orthographic_camera_matches_its_json(tmp_path):
