@@ -166,6 +166,16 @@ def test_damaged_meshes_warn_and_draw(tmp_path, capsys):
     assert all(line.startswith("brushwork: warning:") for line in err.splitlines())
 
 
+def test_obj_with_a_bad_face_index_still_draws(tmp_path, capsys):
+    box = trimesh.creation.box((1.0, 1.0, 1.0))
+    text = "".join(f"v {x} {y} {z}\n" for x, y, z in box.vertices)
+    text += "".join(f"f {a + 1}/1 {b + 1}/1 {c + 1}/1\n" for a, b, c in box.faces) + "f 1 2 99\n"
+    out = tmp_path / "b.png"
+    assert main(["outline", _write(tmp_path / "b.obj", text), "-o", str(out), "--size", "96"]) == 0
+    err = capsys.readouterr().err
+    assert "1 face(s) with bad vertex indices dropped" in err and out.exists()
+
+
 def test_cli_usage_errors_and_orbit(tmp_path):
     src = tmp_path / "t.ply"
     trimesh.creation.icosphere(subdivisions=1).export(src)

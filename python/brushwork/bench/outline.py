@@ -20,8 +20,6 @@ time target of a large mesh).
 from __future__ import annotations
 
 import argparse
-import math
-import os
 import tempfile
 import time
 from pathlib import Path

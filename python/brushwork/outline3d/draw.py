@@ -2,9 +2,7 @@
 against the depth buffer, chain them and draw each chain as one stroke of the brush."""
 from __future__ import annotations
 
-import logging
 import math
-import os
 import time
 from dataclasses import dataclass, field
 
@@ -14,6 +12,7 @@ from . import camera as cam
 from . import chains as ch
 from . import lines as ln
 from . import visibility as vis
+from .meshfile import load_mesh  # noqa: F401  (the pipeline's first step, re-exported)
 from .strokes import OutlineDrawer, OutlineStyle
 
 DEFAULT_KINDS = ("silhouette", "boundary", "crease")
@@ -38,70 +37,6 @@ class Drawing:
     depth: np.ndarray
     lines: ln.Lines
     stats: dict = field(default_factory=dict)
-
-
-class _Collect(logging.Handler):
-    """Keeps the warnings trimesh logs while it reads a file (a missing texture, say)."""
-
-    def __init__(self):
-        super().__init__(logging.WARNING)
-        self.messages: list[str] = []
-
-    def emit(self, record):
-        self.messages.append(" ".join(record.getMessage().split())[:200])
-
-
-def _missing_files(path: str) -> list[str]:
-    """Warnings for an OBJ's material libraries and textures that are not there (the mesh is
-    drawn all the same: outlines need no texture)."""
-    if not path.lower().endswith(".obj"):
-        return []
-    folder, notes = os.path.dirname(os.path.abspath(path)), []
-
-    def refs(text: str, keys: tuple) -> list[str]:
-        return [line.split(None, 1)[1].strip() for line in text.splitlines()
-                if line.strip() and line.split(None, 1)[0] in keys and len(line.split(None, 1)) > 1]
-
-    with open(path, encoding="utf-8", errors="replace") as f:
-        libraries = refs(f.read(), ("mtllib",))
-    for lib in libraries:
-        lib_path = os.path.join(folder, lib)
-        if not os.path.isfile(lib_path):
-            notes.append(f"material library {lib} is missing (drawn without it)")
-            continue
-        with open(lib_path, encoding="utf-8", errors="replace") as f:
-            maps = refs(f.read(), ("map_Kd", "map_Ka", "map_Ks", "map_Bump", "map_d", "bump"))
-        for tex in maps:
-            name = tex.split()[-1]
-            if not os.path.isfile(os.path.join(os.path.dirname(lib_path), name)):
-                notes.append(f"texture {name} of {lib} is missing (drawn without it)")
-    return notes
-
-
-def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
-    """(n, 3) vertices, (m, 3) faces and warnings of a mesh file (OBJ, PLY, STL, OFF, GLB/glTF,
-    through trimesh; a scene's meshes are joined in their placed positions).  ValueError with
-    one line when the file cannot be read as a triangle mesh."""
-    try:
-        import trimesh
-    except ImportError:
-        raise ValueError("reading meshes needs trimesh: pip install 'brushwork[outline]'") from None
-    path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise ValueError(f"{path}: no such file")
-    log, catch = logging.getLogger("trimesh"), _Collect()
-    log.addHandler(catch)
-    try:
-        loaded = trimesh.load(path, force="mesh", process=False)
-    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault, said in one line
-        raise ValueError(f"{path}: not a readable mesh ({type(err).__name__}: {' '.join(str(err).split())[:160]})") from None
-    finally:
-        log.removeHandler(catch)
-    faces = np.asarray(getattr(loaded, "faces", np.zeros((0, 3))))
-    vertices = np.asarray(getattr(loaded, "vertices", np.zeros((0, 3))))
-    if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
-        raise ValueError(f"{path}: no triangles in the file")
-    return vertices, faces, _missing_files(path) + catch.messages
 
 
 def _median_length(chains: list, diagonal: float) -> float:
