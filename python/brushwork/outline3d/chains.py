@@ -4,8 +4,9 @@ Linking walks the graph whose nodes are the lines' points: through a node where 
 kind simply continues, and at a junction on along the segment that turns least (direction
 continuity, in the image), ending when every way on turns more than MAX_TURN_DEG.  Each chain
 is then resampled about once per pixel, its samples tested for visibility, and cut into runs of
-one visibility; runs shorter than a fraction of the image diagonal are dropped, the rest are
-smoothed with their ends held.
+one visibility (a closed chain restarted where its visibility changes); pieces whose ends meet
+again, running on in one direction, are joined; runs shorter than a fraction of the image
+diagonal are dropped, the rest smoothed with their ends held.
 """
 from __future__ import annotations
 
