@@ -8,3 +8,6 @@ bw="${BRUSHWORK:-.venv/bin/brushwork}"
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
 "$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "${TMPDIR:-/tmp}/brushwork-sheet" \
   --sheet docs/sheet.png --no-progress
+# 3-D outlines: the meshes of $BRUSHWORK_MESHES (default the shared test meshes) in two styles
+"${PYTHON:-.venv/bin/python}" -m brushwork.outline3d.sheet --meshes "${BRUSHWORK_MESHES:-/work/shared/data/meshes}" \
+  --styles baimiao,xieyi --size 400 -o docs/outlines.png

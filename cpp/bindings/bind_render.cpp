@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "brushwork/depth.hpp"
 #include "brushwork/render.hpp"
 
 namespace py = pybind11;
@@ -53,6 +54,26 @@ py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm
   d["rect"] = plan.rect;
   d["draws"] = plan.draws();
   return d;
+}
+
+// render_depth: the depth pass of the 3-D outlines
+void bind_depth(py::module_& m) {
+  m.def("render_depth", [](const py::array_t<double, py::array::c_style | py::array::forcecast>& vertices,
+                           const py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>& faces,
+                           const py::array_t<double, py::array::c_style | py::array::forcecast>& matrix,
+                           int width, int height) {
+    if (vertices.ndim() != 2 || vertices.shape(1) != 3 || faces.ndim() != 2 || faces.shape(1) != 3)
+      throw std::invalid_argument("render_depth: expected vertices (n, 3) and faces (m, 3)");
+    if (matrix.ndim() != 2 || matrix.shape(0) != 4 || matrix.shape(1) != 4)
+      throw std::invalid_argument("render_depth: expected a 4 x 4 matrix");
+    py::array_t<float> out({height > 0 ? height : 0, width > 0 ? width : 0});
+    render_depth(vertices.data(), static_cast<int>(vertices.shape(0)), faces.data(), static_cast<int>(faces.shape(0)),
+                 matrix.data(), width, height, out.mutable_data());
+    return out;
+  }, py::arg("vertices"), py::arg("faces"), py::arg("matrix"), py::arg("width"), py::arg("height"), R"doc(
+(height, width) float32 depth of a triangle mesh through the camera matrix M (row-major 4 x 4, p =
+M [v, 1], pixel (p0/p3, p1/p3), x right, y down from the top-left corner): p2/p3 of the nearest
+surface at each pixel centre, +inf where the mesh does not cover it. vertices (n, 3), faces (m, 3).)doc");
 }
 
 }  // namespace
@@ -215,4 +236,5 @@ for orthographic (then ortho_height_mm is the height seen); light: direction tow
         return a;
       }, py::arg("paper"), py::arg("brush"), py::arg("ink") = nullptr, py::arg("options") = ViewOptions(),
       "(H, W, 4) uint8 RGBA, row 0 at the top");
+  bind_depth(m);
 }

@@ -9,6 +9,8 @@
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork bench texture [--chars TEXT] [--size 512] [--json FILE]
+    brushwork outline MESH -o FILE [--size N] [--azimuth DEG] [--elevation DEG] [--style S] [--camera-json FILE] ...
+    brushwork bench outline [--meshes DIR] [--json FILE]
     brushwork demo [-o FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
@@ -399,6 +401,29 @@ def _texture(args: argparse.Namespace) -> int:
         raise ValueError(f"--size {args.size} --chars {args.chars!r}: expected 64..2048 px and some characters")
     return _report("texture", args, lambda: texture.run("".join(args.chars.split()), args.size, _progress),
                    texture.table)
+# outline (3-D meshes) and bench outline: brushwork.outline3d
+def _outline_args(p: argparse.ArgumentParser) -> None:
+    from .outline3d import command
+
+    command.add_arguments(p)
+
+
+def _outline(args: argparse.Namespace) -> int:
+    from .outline3d import command
+
+    return command.run(args)
+
+
+def _bench_outline_args(p: argparse.ArgumentParser) -> None:
+    from .bench import outline
+
+    outline.add_arguments(p)
+
+
+def _bench_outline(args: argparse.Namespace) -> int:
+    from .bench import outline
+
+    return _report("outline", args, lambda: outline.run(args, progress=_progress), outline.table)
 
 
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
@@ -416,6 +441,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
              _fuzz_args, _fuzz),
     "texture": ("dry-brush streaks at exits (xing vs kai), repeats of the texture, agreement across resolutions",
                 _texture_args, _texture),
+    "outline": ("3-D outlines of meshes: silhouette recall and precision, chains, time per phase, orbit coherence",
+                _bench_outline_args, _bench_outline),
 }
 
 
@@ -437,6 +464,7 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",
                _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
+    "outline": ("draw a 3-D mesh's visible feature lines with the brush", _outline_args, _outline),
 }
 
 
