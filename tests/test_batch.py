@@ -126,6 +126,20 @@ def test_render_writes_a_row_of_characters(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_render_writes_the_writings_figures(tmp_path, capsys):
+    stats = tmp_path / "stats.json"
+    assert run_cli("render", "永和", "-o", tmp_path / "a.png", "--size", SIZE, "--stats", stats) == 0
+    doc = json.loads(stats.read_text())
+    assert doc["text"] == "永和" and doc["frames"] == doc["solver_steps"] > 100
+    assert 0 <= doc["frames_at_q_max"] <= doc["frames"] <= doc["substeps"]
+    assert doc["iterations"] >= doc["frames"] and 0.0 <= doc["max_penetration_mm"] < 1.0
+    # 永 and 和 have 5 + 8 strokes, each tallied in its family
+    assert sum(n for _, n in doc["beads"].values()) == 13
+    # an unwritable stats file is refused before the work: no image either
+    assert run_cli("render", "永", "-o", tmp_path / "b.png", "--stats", tmp_path / "no" / "s.json") == 2
+    assert not (tmp_path / "b.png").exists() and "cannot write" in capsys.readouterr().err
+
+
 def test_render_writes_every_character_a_repeated_one_again(tmp_path, capsys):
     out = tmp_path / "row.png"
     assert run_cli("render", "永和永", "-o", out, "--size", 32, "--source", MMAH) == 0
@@ -383,6 +397,12 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["broken_strokes"] == sum(r["broken_strokes"] for r in res["rows"])
     assert 0 <= res["held_frames"] < res["frames"]
     assert "gaps and stray dots" in bench_glyphs.table(res)
+    # the edge figures, the brush's and the round pen's; beads tallied per stroke family
+    assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
+    assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
+    assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
+                                                            list(load_source(MMAH, None).values())[:2])
+    assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
     assert sum(p["outline"] for p in parts.values()) == pytest.approx(1.0)
@@ -473,7 +493,7 @@ class _FloatingOnce:
 
         self.steps += 1
         floating = self.steps <= self.floats and not self.converged_first
-        return SimpleNamespace(converged=not floating, status="iteration cap" if floating else "converged")
+        return _step_stats(not floating, "iteration cap" if floating else "converged")
 
     def footprint(self):
         return [] if self.steps <= self.floats else [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]]
@@ -487,6 +507,12 @@ class _Paper:
 
     def end_stroke(self):
         pass
+
+
+
+def _step_stats(converged: bool, status: str) -> SimpleNamespace:
+    """A stand-in for the core's StepStats: what the writer reads of one."""
+    return SimpleNamespace(converged=converged, status=status, iterations=3, substeps=1, max_penetration=0.0)
 
 
 @pytest.mark.parametrize("touching, press, converged_first, floats, steps", [
@@ -517,7 +543,7 @@ def test_the_writer_counts_a_stroke_broken_by_a_lift():
             return SimpleNamespace(contact=contact, new_stroke=new)
 
     writer = Writer(Replay(), Style.load("kai"))
-    writer.brush = SimpleNamespace(step=lambda pose: SimpleNamespace(converged=True, status="converged"),
+    writer.brush = SimpleNamespace(step=lambda pose: _step_stats(True, "converged"),
                                    footprint=lambda: [[(0.0, 0.0)]])
     for _ in range(3):
         writer._step(np.array([10.0, 10.0]), 0.0, 0.2, 15.0)
@@ -539,7 +565,7 @@ class _LeavesOnPress:
 
     def step(self, pose):
         self.poses.append(pose)
-        return SimpleNamespace(converged=True, status="converged")
+        return _step_stats(True, "converged")
 
     def footprint(self):
         if self.off_from is not None and len(self.poses) >= self.off_from:

@@ -26,7 +26,7 @@ from ..paper import Paper
 from ..recorded import root_height
 from ..scene import Scene
 from .style import Style, family
-from .targets import _centroid_and_width, stroke_targets
+from .targets import _centroid_and_width, beaded, stroke_targets
 
 # the driver's constants (L: the tuft length)
 PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
@@ -62,6 +62,22 @@ class Writer:
         self.holds = 0                    # frames a pose was held because the solver left the brush floating
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
+        self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
+        self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
+        # the solver over every frame written: steps, steps stopped at the iteration cap q_max,
+        # SQP iterations, sub-steps, the deepest penetration of the shrunk sections (mm)
+        self.solver = {"steps": 0, "steps_at_q_max": 0, "iterations": 0, "substeps": 0, "max_penetration_mm": 0.0}
+
+    def _solve(self, pose: Pose):
+        """One brush step, tallied in self.solver; returns the core's StepStats."""
+        stats = self.brush.step(pose)
+        tally = self.solver
+        tally["steps"] += 1
+        tally["steps_at_q_max"] += int(stats.iterations >= self.shape.q_max)
+        tally["iterations"] += stats.iterations
+        tally["substeps"] += stats.substeps
+        tally["max_penetration_mm"] = max(tally["max_penetration_mm"], stats.max_penetration)
+        return stats
 
     def _step(self, target: np.ndarray, heading: float, press: float, tilt: float) -> None:
         c, s = math.cos(heading), math.sin(heading)
@@ -70,7 +86,7 @@ class Writer:
         root = target + off
         z = root_height(self.shape, tilt, press)
         pose = Pose((root[0], root[1], z), tilt, math.degrees(heading))
-        stats = self.brush.step(pose)
+        stats = self._solve(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
         # a pressed brush cannot float: the root is below where the straight tuft's tip touches.
         # When the solver stopped at q_max on an iterate that does (a bent tuft held up on its
@@ -80,10 +96,13 @@ class Writer:
             if not (self.touching and press > 0.0 and not stats.converged and stats.status == "iteration cap"
                     and not self.contact):
                 break
-            stats = self.brush.step(pose)
+            stats = self._solve(pose)
             self.contact = self.brush.footprint()
             self.frames += 1
             self.holds += 1
+        seen = _centroid_and_width(self.contact, heading)
+        if seen is not None or self.widths:              # from the first touch on
+            self.widths.append(0.0 if seen is None else seen[1])
         dep = self.paper.deposit(self.brush)
         # a break: the brush came down again after leaving the paper within one stroke
         self.breaks += int(dep.new_stroke and self.touched_in_stroke)
@@ -117,6 +136,7 @@ class Writer:
         st = self.style
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
+        self.widths = []
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
         aim = _Aim(st, path, s, width)
@@ -131,6 +151,9 @@ class Writer:
         j = self._along(aim, heading, w_nom, tapering)
         self._lift(aim.target(self, j), heading[j], tapering)
         self.paper.end_stroke()
+        tally = self.beads.setdefault(family(kind), [0, 0])
+        tally[0] += int(beaded(self.widths))
+        tally[1] += 1
 
     def _come_down(self, aim: "_Aim", h0: float) -> None:
         """Come down at the start: while in the air the tip is aimed at the stroke's start (the
@@ -202,7 +225,7 @@ class Writer:
         z_hover = root_height(self.shape, st.tilt_deg, -st.hover)
         for j in range(n):
             t = (j + 1) / n
-            self.brush.step(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
+            self._solve(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
                                   z_hover), st.tilt_deg, math.degrees(heading)))
             self.paper.deposit(self.brush)
             self.frames += 1
