@@ -402,6 +402,8 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
     assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
                                                             list(load_source(MMAH, None).values())[:2])
+    assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
+    assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
     assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
@@ -667,6 +669,34 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     assert rows[-1][0] == -kai.hover
     rows_off, _ = _trace_exit(replace(kai, taper_from=None))
     assert beaded([r[1] for r in rows_off])
+
+
+def _poses_written(style, size):
+    """(frames, 5): every pose the writer gives the brush while writing the bundled 和 at `size`
+    px: root x y z (mm), tilt, azimuth (degrees)."""
+    from brushwork.writing import writing_paper
+
+    writer = Writer(writing_paper(style, size), style)
+    poses, step = [], writer.brush.step
+
+    def recorded(pose):
+        poses.append((*pose.position, pose.tilt_deg, pose.azimuth_deg))
+        return step(pose)
+
+    writer.brush.step = recorded
+    writer.write(load_source("default", "和")["和"])
+    return np.array(poses)
+
+
+def test_the_driver_moves_the_brush_alike_at_any_resolution():
+    """The output size only samples the scene: without the ink's depletion (whose spent ink is
+    counted on the paper's pixels, and feeds the brush's wetness) the writer gives the brush the
+    same poses at 64 px as at 256 px, frame for frame."""
+    kai = Style.load("kai")
+    dry = replace(kai, scene=dict(kai.scene, depletion=False))
+    small, large = _poses_written(dry, 64), _poses_written(dry, 256)
+    assert small.shape == large.shape and len(small) > 100
+    np.testing.assert_array_equal(small, large)
 
 
 def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):

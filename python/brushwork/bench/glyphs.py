@@ -116,12 +116,32 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
               "characters": len(order), "failed": failed, **_summary(rows, order),
               "chars_per_s": len(order) / wall if wall > 0 else None}
+    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:RESOLUTION_CHARS]], size, style, seed)
     if sheet:
         from ..sheet import Cell, contact_sheet
 
         cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
         result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
     return result
+
+
+RESOLUTION_CHARS = 3      # characters written again at 2 and 4 times the size
+
+
+def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list:
+    """[[char, IoU at 2 size, IoU at 4 size], ...]: each glyph written at 2 and 4 times `size`,
+    its ink downsampled (area average) to `size` and masked at 0.5, against its ink written at
+    `size` (the output size should only sample the scene)."""
+    import cv2
+
+    rows = []
+    for glyph in glyphs:
+        masks = []
+        for k in (1, 2, 4):
+            ink = bt.text_paper([glyph], size * k, style, seed).ink().astype(np.float32)
+            masks.append(cv2.resize(ink, (size, size), interpolation=cv2.INTER_AREA) > 0.5)
+        rows.append([glyph.char, iou(masks[1], masks[0]), iou(masks[2], masks[0])])
+    return rows
 
 
 def _scorable(source: str, count: int | None, errors: list) -> dict:
@@ -246,6 +266,8 @@ def table(result: dict) -> str:
              f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "
              f"{result['solver']['substeps']} sub-steps, deepest penetration "
              f"{result['solver']['max_penetration_mm']:.4f} mm",
+             "resolution (the ink written at 2x and 4x the size, downsampled, IoU against it at this size): "
+             + "  ".join(f"{c} {a:.3f} {b:.3f}" for c, a, b in result["resolution"]),
              "",
              "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
              "where the ink misses (fractions of all outline pixels; head and end: first and last 15% of "
