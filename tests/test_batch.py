@@ -671,6 +671,41 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     assert beaded([r[1] for r in rows_off])
 
 
+def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
+    """plan_passes: each stroke is rehearsed (nothing deposited, the brush put back) with the
+    frame-by-frame loops, then replayed open-loop as a plan corrected by the low-passed errors.
+    Over the strokes of 永 the last correction's footprint lies closer to the aim than the
+    loops' (their mean square edge error, _Log.error), and a rehearsal leaves no ink."""
+    from brushwork.writing import writing_paper
+
+    planned = replace(Style.load("kai"), plan_passes=3)
+    errors, rehearse = [], Writer._rehearse
+
+    def measured(self, aim, *rest):
+        log = rehearse(self, aim, *rest)
+        errors.append(log.error(aim))
+        return log
+
+    monkeypatch.setattr(Writer, "_rehearse", measured)
+    paper = writing_paper(planned, 128)
+    writer = Writer(paper, planned)
+    glyph = load_source("default", "永")["永"]
+    writer.write(glyph)
+    per_stroke = np.array(errors).reshape(len(glyph.strokes), 1 + planned.plan_passes)
+    assert per_stroke[:, -1].sum() < 0.7 * per_stroke[:, 0].sum()
+    # a rehearsal alone: the paper stays blank, the brush where it was
+    paper.clear()
+    before = writer.brush.skeleton()
+    pts = np.array([[20.0, 50.0], [60.0, 50.0]])
+    from brushwork.writing.driver import _Aim
+    from brushwork.writing.targets import stroke_targets
+
+    path, s, heading, width = stroke_targets(planned, pts, "㇐", 5.0)
+    writer._plan(_Aim(planned, path, s, width), heading, 5.0, False)
+    assert paper.ink().max() == 0.0
+    np.testing.assert_array_equal(writer.brush.skeleton(), before)
+
+
 def _poses_written(style, size):
     """(frames, 5): every pose the writer gives the brush while writing the bundled 和 at `size`
     px: root x y z (mm), tilt, azimuth (degrees)."""

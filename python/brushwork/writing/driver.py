@@ -34,7 +34,10 @@ PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
 PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
 HOLD_FRAMES = 3           # frames a pose is held at most while the solver leaves a pressed brush floating
 TRAVEL_STEP = 4.0         # step_mm: the brush moves this many frame steps per frame in the air
-TRAVEL_FRAMES = (2, 10)   # frames of one travel between strokes, fewest and most
+TRAVEL_FRAMES = (2, 10)
+# the stroke families whose exit tapers (出锋): the left-falling 撇 and rising 提 thin out, the
+# right-falling 捺 leaves its pressed foot and the hook 钩 its flick as the press eases
+TAPERING = ("tapered", "rising", "flared", "hook")   # frames of one travel between strokes, fewest and most
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -161,7 +164,7 @@ class Writer:
         # down on a folded tip, a bead at the end of a left-falling stroke 撇; eased only, the tip
         # alone drew a hairline past the end. So the travel ends where the belly has left, and
         # the brush lifts there
-        tapering = st.taper_from is not None and family(kind) in ("tapered", "rising")
+        tapering = st.taper_from is not None and family(kind) in TAPERING
         plan = self._plan(aim, heading, w_nom, tapering) if st.plan_passes > 0 else None
         self._come_down(aim, heading[0])
         j = self._along(aim, heading, w_nom, tapering, plan)
@@ -253,7 +256,7 @@ class Writer:
                 self.press = eased = float(plan.press[j])
                 self._pose_step(plan.root[j], heading[j], eased, st.tilt_deg)
                 self._follow(pj, heading[j])
-            self.log.add(self.root, eased, pj, _centroid_and_width(self.contact, heading[j]))
+            self.log.add(self.root, eased, pj, heading[j], self.contact)
             if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
                 break
         return j
@@ -277,7 +280,9 @@ class Writer:
     def _lift(self, end: np.ndarray, h: float, tapering: bool) -> None:
         """Lift while drawing the root back over the footprint (回锋, returning the tip), so the
         unbending tuft does not sweep ink past the stroke's end; a tapered exit has no tip to
-        return (only the tip touches as the travel ends): it lifts where it stands."""
+        return (only the tip touches as the travel ends): it leaves the paper at once, where it
+        stands (eased up, the folded tip of a 捺 or a hook came down again behind the collapsed
+        footprint, a bead at the exit)."""
         st = self.style
         back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering else self.offset_local[0])
         # Once a deposit leaves no ink (the belly may already have left on the travel's last
@@ -285,7 +290,7 @@ class Writer:
         # springing back as the root rose slowly swung its tip down onto the paper again, a dot
         # past the stroke's end
         for j in range(st.exit_frames):
-            if not self.touching:
+            if tapering or not self.touching:
                 self._step(end - back, h, -st.hover, st.tilt_deg)
                 break
             t = (j + 1) / st.exit_frames
@@ -361,16 +366,41 @@ def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
                     axis=1).reshape(a.shape)
 
 
+def _ramp(m: int, sigma: float) -> np.ndarray:
+    """(m,) 0 at a travel's first frame rising to 1 over ~sigma frames: the travel starts where
+    the come-down left the brush, and a plan's changes fade in from there."""
+    return 1.0 - np.exp(-np.arange(m) / max(sigma, 1e-6))
+
+
+def _pinned(a: np.ndarray, sigma: float) -> np.ndarray:
+    """`a` (m, ...) low-passed (`sigma` frames), its first frame kept (faded in by _ramp)."""
+    smooth = _lowpass(a, sigma)
+    ramp = _ramp(len(a), sigma).reshape((-1,) + (1,) * (a.ndim - 1))
+    return smooth + (1.0 - ramp) * (a[:1] - smooth[:1])
+
+
 class _Log:
     """One travel along a centreline, a row a frame: the root's xy (mm), the press (L), the aim
-    point (mm), the footprint's centre (mm; NaN off the paper) and width (mm; 0 off the paper)."""
+    point (mm), the footprint's centre (mm; NaN off the paper) and its width across the travel
+    (mm; 0 off the paper)."""
 
     def __init__(self):
         self.rows: list = []
 
-    def add(self, root, press: float, aim_point, seen) -> None:
-        centre, width = (np.full(2, np.nan), 0.0) if seen is None else (seen[0], seen[1])
-        self.rows.append((*root, press, *aim_point, *centre, width))
+    def add(self, root, press: float, aim_point, heading: float, loops) -> None:
+        """A frame: the footprint `loops` seen from `aim_point` (2,) mm, the travel along `heading`
+        rad: its area centroid and its extent across the travel (the ink's edges)."""
+        seen = _centroid_and_width(loops, heading)
+        if seen is None:
+            self.rows.append((*root, press, *aim_point, np.nan, np.nan, 0.0))
+            return
+        t = np.array([math.cos(heading), math.sin(heading)])
+        n = np.array([-t[1], t[0]])
+        across = np.concatenate([np.asarray(loop)[:, :2] for loop in loops]) @ n - float(np.dot(aim_point, n))
+        lo, hi = float(across.min()), float(across.max())
+        # the footprint's centre: along the travel its centroid, across it the middle of its edges
+        centre = np.asarray(aim_point) + float(np.dot(seen[0] - aim_point, t)) * t + 0.5 * (lo + hi) * n
+        self.rows.append((*root, press, *aim_point, *centre, hi - lo))
 
     @property
     def table(self) -> np.ndarray:
@@ -406,7 +436,7 @@ class _Plan:
     def smoothed(self, log: _Log, sigma: float) -> "_Plan":
         """The plan low-passed (`sigma` frames): the root's offset from the aim and the press."""
         aim = log.table[:, 3:5]
-        return _Plan(aim + _lowpass(self.root - aim, sigma), _lowpass(self.press, sigma))
+        return _Plan(aim + _pinned(self.root - aim, sigma), _pinned(self.press, sigma))
 
     def corrected(self, log: _Log, aim: "_Aim", st: Style) -> "_Plan":
         """The plan moved by the low-passed errors of its rehearsal `log`: the root by
@@ -415,8 +445,9 @@ class _Plan:
         pos, rel = log.errors(aim)
         sigma = st.plan_sigma_mm / st.step_mm
         m = len(rel)
-        root = self.root[:m] + st.plan_position_gain * _lowpass(pos, sigma)
-        press = np.clip(self.press[:m] + st.plan_press_gain * _lowpass(rel, sigma), 0.0, PRESS_MAX)
+        ramp = _ramp(m, sigma)
+        root = self.root[:m] + st.plan_position_gain * ramp[:, None] * _lowpass(pos, sigma)
+        press = np.clip(self.press[:m] + st.plan_press_gain * ramp * _lowpass(rel, sigma), 0.0, PRESS_MAX)
         return _Plan(root, press)
 
 

@@ -89,7 +89,7 @@ FIELDS: tuple[StyleField, ...] = (
        "how far the footprint may reach past a median's end (null: half the stroke's width)"),
     _F("start_reach_em", "float?", "em", -0.5, 0.5, None, "the same before its start (null: as end_reach_em)"),
     _F("taper_from", "float?", "median", 0.0, 1.0, None,
-       "出锋 exits: from this fraction of the median on the press only eases (null: off)"),
+       "出锋 exits (撇, 提, 捺, hooks): from this fraction of the median on the press only eases (null: off)"),
     _F("taper_collapse", "float", "width", 0.0, 1.0, 0.5,
        "... and the travel ends once the footprint is narrower than this fraction of the width"),
     _F("plan_passes", "int", "passes", 0, 8, 0,
