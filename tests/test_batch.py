@@ -384,6 +384,18 @@ def test_progress_lines_when_not_a_terminal():
     assert len(lines) == 3 and lines[-1].startswith("[" + "#" * 30 + "] 3/3") and "1 failed" in lines[-1]
 
 
+def _check_edge_figures(res):
+    """bench glyphs' edge figures, the brush's and the round pen's, beads tallied per stroke
+    family over every stroke, the solver's tallies and the resolution line."""
+    assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
+    assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
+    assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
+                                                            list(load_source(MMAH, None).values())[:2])
+    assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
+    assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
+    assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
+
+
 def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     res = bench_glyphs.run(MMAH, size=SIZE, count=2, jobs=1, sheet=str(tmp_path / "s.png"), progress=False)
     assert res["characters"] == 2 and len(res["rows"]) == 2
@@ -397,14 +409,7 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["broken_strokes"] == sum(r["broken_strokes"] for r in res["rows"])
     assert 0 <= res["held_frames"] < res["frames"]
     assert "gaps and stray dots" in bench_glyphs.table(res)
-    # the edge figures, the brush's and the round pen's; beads tallied per stroke family
-    assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
-    assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
-    assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
-                                                            list(load_source(MMAH, None).values())[:2])
-    assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
-    assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
-    assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
+    _check_edge_figures(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
     assert sum(p["outline"] for p in parts.values()) == pytest.approx(1.0)
