@@ -126,6 +126,20 @@ def test_render_writes_a_row_of_characters(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_render_writes_the_writings_figures(tmp_path, capsys):
+    stats = tmp_path / "stats.json"
+    assert run_cli("render", "永和", "-o", tmp_path / "a.png", "--size", SIZE, "--stats", stats) == 0
+    doc = json.loads(stats.read_text())
+    assert doc["text"] == "永和" and doc["frames"] == doc["solver_steps"] > 100
+    assert 0 <= doc["frames_at_q_max"] <= doc["frames"] <= doc["substeps"]
+    assert doc["iterations"] >= doc["frames"] and 0.0 <= doc["max_penetration_mm"] < 1.0
+    # 永 and 和 have 5 + 8 strokes, each tallied in its family
+    assert sum(n for _, n in doc["beads"].values()) == 13
+    # an unwritable stats file is refused before the work: no image either
+    assert run_cli("render", "永", "-o", tmp_path / "b.png", "--stats", tmp_path / "no" / "s.json") == 2
+    assert not (tmp_path / "b.png").exists() and "cannot write" in capsys.readouterr().err
+
+
 def test_render_writes_every_character_a_repeated_one_again(tmp_path, capsys):
     out = tmp_path / "row.png"
     assert run_cli("render", "永和永", "-o", out, "--size", 32, "--source", MMAH) == 0
@@ -370,6 +384,18 @@ def test_progress_lines_when_not_a_terminal():
     assert len(lines) == 3 and lines[-1].startswith("[" + "#" * 30 + "] 3/3") and "1 failed" in lines[-1]
 
 
+def _check_edge_figures(res):
+    """bench glyphs' edge figures, the brush's and the round pen's, beads tallied per stroke
+    family over every stroke, the solver's tallies and the resolution line."""
+    assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
+    assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
+    assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
+                                                            list(load_source(MMAH, None).values())[:2])
+    assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
+    assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
+    assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
+
+
 def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     res = bench_glyphs.run(MMAH, size=SIZE, count=2, jobs=1, sheet=str(tmp_path / "s.png"), progress=False)
     assert res["characters"] == 2 and len(res["rows"]) == 2
@@ -383,6 +409,7 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
     assert res["broken_strokes"] == sum(r["broken_strokes"] for r in res["rows"])
     assert 0 <= res["held_frames"] < res["frames"]
     assert "gaps and stray dots" in bench_glyphs.table(res)
+    _check_edge_figures(res)
     parts = res["error_by_part"]
     assert set(parts) == {"head", "body", "end"}
     assert sum(p["outline"] for p in parts.values()) == pytest.approx(1.0)
@@ -476,7 +503,7 @@ class _FloatingOnce:
         self.steps += 1
         self.heights.append(pose.position[2])
         floating = self.steps <= self.floats and not self.converged_first
-        return SimpleNamespace(converged=not floating, status="iteration cap" if floating else "converged")
+        return _step_stats(not floating, "iteration cap" if floating else "converged")
 
     def footprint(self):
         return [] if self.steps <= self.floats else [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]]
@@ -490,6 +517,12 @@ class _Paper:
 
     def end_stroke(self):
         pass
+
+
+
+def _step_stats(converged: bool, status: str) -> SimpleNamespace:
+    """A stand-in for the core's StepStats: what the writer reads of one."""
+    return SimpleNamespace(converged=converged, status=status, iterations=3, substeps=1, max_penetration=0.0)
 
 
 @pytest.mark.parametrize("touching, press, converged_first, floats, steps", [
@@ -523,7 +556,7 @@ def test_the_writer_counts_a_stroke_broken_by_a_lift():
             return SimpleNamespace(contact=contact, new_stroke=new)
 
     writer = Writer(Replay(), Style.load("kai"))
-    writer.brush = SimpleNamespace(step=lambda pose: SimpleNamespace(converged=True, status="converged"),
+    writer.brush = SimpleNamespace(step=lambda pose: _step_stats(True, "converged"),
                                    footprint=lambda: [[(0.0, 0.0)]])
     for _ in range(3):
         writer._step(np.array([10.0, 10.0]), 0.0, 0.2, 15.0)
@@ -545,7 +578,7 @@ class _LeavesOnPress:
 
     def step(self, pose):
         self.poses.append(pose)
-        return SimpleNamespace(converged=True, status="converged")
+        return _step_stats(True, "converged")
 
     def footprint(self):
         if self.off_from is not None and len(self.poses) >= self.off_from:
@@ -644,6 +677,69 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     # (fewer than exit_frames when the brush leaves the paper early: the rest of the lift is one frame)
     assert 1 <= len(exit_roots) <= kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
     assert rows[-1][0] == -kai.hover
+
+
+def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
+    """plan_passes: each stroke is rehearsed (nothing deposited, the brush put back) with the
+    frame-by-frame loops, then replayed open-loop as a plan corrected by the low-passed errors.
+    Over the strokes of 永 the last correction's footprint lies closer to the aim than the
+    loops' (their mean square edge error, _Log.error), and a rehearsal leaves no ink."""
+    from brushwork.writing import writing_paper
+
+    planned = replace(Style.load("kai"), plan_passes=3)
+    errors, rehearse = [], Writer._rehearse
+
+    def measured(self, aim, *rest):
+        log = rehearse(self, aim, *rest)
+        errors.append(log.error(aim))
+        return log
+
+    monkeypatch.setattr(Writer, "_rehearse", measured)
+    paper = writing_paper(planned, 128)
+    writer = Writer(paper, planned)
+    glyph = load_source("default", "永")["永"]
+    writer.write(glyph)
+    per_stroke = np.array(errors).reshape(len(glyph.strokes), 1 + planned.plan_passes)
+    assert per_stroke[:, -1].sum() < 0.7 * per_stroke[:, 0].sum()
+    # a rehearsal alone: the paper stays blank, the brush where it was
+    paper.clear()
+    before = writer.brush.skeleton()
+    pts = np.array([[20.0, 50.0], [60.0, 50.0]])
+    from brushwork.writing.driver import _Aim
+    from brushwork.writing.targets import stroke_targets
+
+    path, s, heading, width = stroke_targets(planned, pts, "㇐", 5.0)
+    writer._plan(_Aim(planned, path, s, width), heading, 5.0, False)
+    assert paper.ink().max() == 0.0
+    np.testing.assert_array_equal(writer.brush.skeleton(), before)
+
+
+def _poses_written(style, size):
+    """(frames, 5): every pose the writer gives the brush while writing the bundled 和 at `size`
+    px: root x y z (mm), tilt, azimuth (degrees)."""
+    from brushwork.writing import writing_paper
+
+    writer = Writer(writing_paper(style, size), style)
+    poses, step = [], writer.brush.step
+
+    def recorded(pose):
+        poses.append((*pose.position, pose.tilt_deg, pose.azimuth_deg))
+        return step(pose)
+
+    writer.brush.step = recorded
+    writer.write(load_source("default", "和")["和"])
+    return np.array(poses)
+
+
+def test_the_driver_moves_the_brush_alike_at_any_resolution():
+    """The output size only samples the scene: without the ink's depletion (whose spent ink is
+    counted on the paper's pixels, and feeds the brush's wetness) the writer gives the brush the
+    same poses at 64 px as at 256 px, frame for frame."""
+    kai = Style.load("kai")
+    dry = replace(kai, scene=dict(kai.scene, depletion=False))
+    small, large = _poses_written(dry, 64), _poses_written(dry, 256)
+    assert small.shape == large.shape and len(small) > 100
+    np.testing.assert_array_equal(small, large)
 
 
 def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):

@@ -375,6 +375,35 @@ def test_pieces_counts_a_broken_stroke_and_a_stray_dot():
         pieces(ref[:10], ref)
 
 
+def _disc(radius_px, wave_px=0.0, waves=40, size=512):
+    """(size, size) bool: a disc whose radius wavers by wave_px, `waves` times round."""
+    import cv2
+
+    th = np.linspace(0.0, 2.0 * math.pi, 1440, endpoint=False)
+    r = radius_px + wave_px * np.sin(waves * th)
+    pts = np.stack([size / 2 + r * np.cos(th), size / 2 + r * np.sin(th)], axis=1)
+    mask = np.zeros((size, size), np.uint8)
+    cv2.fillPoly(mask, [np.round(pts * 16).astype(np.int32)], 1, shift=4)
+    return mask.astype(bool)
+
+
+def test_edge_figures_tell_a_smooth_edge_from_a_wavering_one():
+    from brushwork.glyphs.score import edge_figures
+
+    smooth, smooth_len = edge_figures(_disc(150.0))
+    assert smooth < 0.3                                   # the pixel staircase and the smoothing's shrink
+    assert smooth_len == pytest.approx(2 * math.pi * 150.0, rel=0.07)
+    rough, rough_len = edge_figures(_disc(150.0, wave_px=2.0))
+    assert rough > smooth + 0.4 and rough_len > smooth_len * 1.05
+    # a waver slower than the Gaussian is shape, not roughness
+    slow, _ = edge_figures(_disc(150.0, wave_px=2.0, waves=3))
+    assert slow < smooth + 0.1
+    # holes count: a ring has two contours, its length both circles
+    ring = _disc(150.0) & ~_disc(100.0)
+    assert edge_figures(ring)[1] == pytest.approx(smooth_len + edge_figures(_disc(100.0))[1], rel=0.01)
+    assert edge_figures(np.zeros((64, 64), bool)) == (0.0, 0.0)
+
+
 def test_a_sliver_footprint_keeps_its_centre_on_the_ink():
     # an outer loop and a hole that nearly cancel (a footprint of 1e-4 mm^2 net) have an area
     # centroid far off the ink; the driver would aim the root there (one threw it 200 mm)

@@ -83,9 +83,10 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
     stroke layer (None: the style's scene, 4 unless it says otherwise; 1 is ~2.5x faster on a
     software renderer, with edges stepped at the pixel). counts: a dict that receives the frames
-    written, the strokes broken (the brush down again after a lift within one stroke) and the
-    frames held (Writer._step). paper: one made earlier by writing_paper for as many glyphs at this
-    size, style and samples, cleared and written again (a batch worker keeps one: a new 1024 px
+    written, the strokes broken (the brush down again after a lift within one stroke), the
+    frames held (Writer._step), the beads at exits by stroke family (Writer.beads) and the
+    solver's figures (Writer.solver). paper: one made earlier by writing_paper for as many glyphs
+    at this size, style and samples, cleared and written again (a batch worker keeps one: a new 1024 px
     paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws)."""
     st = style if isinstance(style, Style) else Style.load(style)
     if paper is None:
@@ -99,8 +100,20 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     for k, glyph in enumerate(glyphs):
         writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
     if counts is not None:
-        counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds)
+        counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds, beads=writer.beads,
+                      solver=writer.solver)
     return paper
+
+
+def writing_stats(counts: dict) -> dict:
+    """The figures of a writing from text_paper's `counts`: frames, frames held, strokes broken,
+    solver steps and those stopped at the iteration cap q_max, SQP iterations, sub-steps, the
+    deepest penetration (mm), beads at exits by stroke family ([beaded, strokes])."""
+    solver = counts["solver"]
+    return {"frames": counts["frames"], "frames_held": counts["holds"], "strokes_broken": counts["breaks"],
+            "solver_steps": solver["steps"], "frames_at_q_max": solver["steps_at_q_max"],
+            "iterations": solver["iterations"], "substeps": solver["substeps"],
+            "max_penetration_mm": solver["max_penetration_mm"], "beads": counts["beads"]}
 
 
 def parse_charset(text: str) -> str:

@@ -1,6 +1,6 @@
 """The `brushwork` command line: rendering characters, benchmarks and the demo.
 
-    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent]
+    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE]
     brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
@@ -176,10 +176,13 @@ def _render_text_args(p: argparse.ArgumentParser) -> None:
                    help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp")
     _look_args(p)
     _image_args(p)
+    p.add_argument("--stats", metavar="FILE", help="also write the writing's figures as JSON to FILE: frames, "
+                                                   "solver steps at the iteration cap q_max, sub-steps, deepest "
+                                                   "penetration (mm), beads at exits by stroke family")
 
 
 def _render_text(args: argparse.Namespace) -> int:
-    from .batch import check_request, text_chars, text_paper
+    from .batch import check_request, text_chars, text_paper, writing_stats
     from .files import check_image_path, save_paper
     from .writing import Style
 
@@ -187,13 +190,20 @@ def _render_text(args: argparse.Namespace) -> int:
     check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
     check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
+    if args.stats:
+        from .bench.report import check_writable, write_json
+
+        check_writable(args.stats)
     glyphs = _load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples)
+    counts: dict = {}
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts)
     path = save_paper(paper, args.output, bits=args.bits,
                       background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({_plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
+    if args.stats:
+        write_json(args.stats, {"text": "".join(chars), "size": args.size, "style": style.name, **writing_stats(counts)})
     return 0
 
 

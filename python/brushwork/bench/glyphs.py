@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import PARTS, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..glyphs.score import PARTS, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
 from ..writing import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -73,14 +73,28 @@ def _score(task: tuple) -> tuple:
         masks = stroke_masks(glyph, _JOB["size"])                  # one (size, size) bool per stroke
         ref = np.any(masks, axis=0)
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
-        pen = iou(round_pen_mask(glyph, _JOB["size"]), ref)
+        pen = round_pen_mask(glyph, _JOB["size"])
         extra, specks = pieces(ink, ref)
-        scores = {"iou": iou(ink, ref), "round_pen_iou": pen, "extra_pieces": extra, "specks": specks,
+        scores = {"iou": iou(ink, ref), "round_pen_iou": iou(pen, ref), "extra_pieces": extra, "specks": specks,
                   "error_by_part": error_by_part(glyph, ink, masks), "broken_strokes": counts["breaks"],
-                  "frames": counts["frames"], "held_frames": counts["holds"]}
+                  "frames": counts["frames"], "held_frames": counts["holds"], "beads": counts["beads"],
+                  "solver": counts["solver"], **_edges(ink, ref, pen)}
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
+
+
+def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
+    """The edge figures of the ink and of the round pen against the outlines (bool masks of one
+    size): excess roughness (px: the mask's edge_figures roughness minus the outlines'), perimeter
+    ratio (its contour length / the outlines'), extra pieces (the round pen's; the ink's are
+    counted with the specks)."""
+    r_ref, p_ref = edge_figures(ref)
+    r_ink, p_ink = edge_figures(ink)
+    r_pen, p_pen = edge_figures(pen)
+    return {"roughness": r_ink - r_ref, "perimeter_ratio": p_ink / max(p_ref, 1.0),
+            "round_pen_roughness": r_pen - r_ref, "round_pen_perimeter_ratio": p_pen / max(p_ref, 1.0),
+            "round_pen_extra_pieces": pieces(pen, ref)[0]}
 
 
 def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
@@ -102,12 +116,32 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
               "characters": len(order), "failed": failed, **_summary(rows, order),
               "chars_per_s": len(order) / wall if wall > 0 else None}
+    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:RESOLUTION_CHARS]], size, style, seed)
     if sheet:
         from ..sheet import Cell, contact_sheet
 
         cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
         result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
     return result
+
+
+RESOLUTION_CHARS = 3      # characters written again at 2 and 4 times the size
+
+
+def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list:
+    """[[char, IoU at 2 size, IoU at 4 size], ...]: each glyph written at 2 and 4 times `size`,
+    its ink downsampled (area average) to `size` and masked at 0.5, against its ink written at
+    `size` (the output size should only sample the scene)."""
+    import cv2
+
+    rows = []
+    for glyph in glyphs:
+        masks = []
+        for k in (1, 2, 4):
+            ink = bt.text_paper([glyph], size * k, style, seed).ink().astype(np.float32)
+            masks.append(cv2.resize(ink, (size, size), interpolation=cv2.INTER_AREA) > 0.5)
+        rows.append([glyph.char, iou(masks[1], masks[0]), iou(masks[2], masks[0])])
+    return rows
 
 
 def _scorable(source: str, count: int | None, errors: list) -> dict:
@@ -151,6 +185,10 @@ def _summary(rows: dict, order: list) -> dict:
         "worst": [[c, rows[c]["iou"]] for c in sorted(order, key=lambda c: rows[c]["iou"])[:10]],
         "round_pen_mean_iou": float(np.mean([rows[c]["round_pen_iou"] for c in order])) if order else None,
         "round_pen_width_em": ROUND_PEN_EM,
+        # the edge figures (glyphs.score.edge_figures): mean excess roughness, median perimeter ratio
+        **{f"{who}{k}": _pooled(rows, order, who + k) for who in ("", "round_pen_")
+           for k in ("roughness", "perimeter_ratio", "extra_pieces")},
+        "beads": _beads(rows, order), "solver": _solver(rows, order),
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
         "extra_pieces": _total(rows, order, "extra_pieces"),
         "chars_with_extra_pieces": [c for c in order if rows[c]["extra_pieces"] > 0],
@@ -164,6 +202,35 @@ def _summary(rows: dict, order: list) -> dict:
                                              "seconds")}}
                  for c in order],
     }
+
+
+def _pooled(rows: dict, order: list, key: str):
+    """A figure over the characters: the sum of pieces, the median of a ratio, else the mean."""
+    values = [rows[c][key] for c in order]
+    if not values:
+        return None
+    if key.endswith("pieces"):
+        return int(sum(values))
+    return float(np.median(values) if key.endswith("ratio") else np.mean(values))
+
+
+def _beads(rows: dict, order: list) -> dict:
+    """Stroke family -> [strokes ending in a bead, strokes], over the characters."""
+    out: dict = {}
+    for c in order:
+        for fam, (n_bead, n) in rows[c]["beads"].items():
+            tally = out.setdefault(fam, [0, 0])
+            tally[0] += n_bead
+            tally[1] += n
+    return dict(sorted(out.items()))
+
+
+def _solver(rows: dict, order: list) -> dict:
+    """The solver's tallies (Writer.solver) summed over the characters, the penetration's max."""
+    out = {k: sum(rows[c]["solver"][k] for c in order) for k in ("steps", "steps_at_q_max", "iterations",
+                                                               "substeps")}
+    out["max_penetration_mm"] = max((rows[c]["solver"]["max_penetration_mm"] for c in order), default=0.0)
+    return out
 
 
 def _error_by_part(per_char: list) -> dict:
@@ -185,6 +252,22 @@ def table(result: dict) -> str:
              f"| worst | {result['worst_iou']:.3f} |",
              f"| (baseline: round pen of width {result['round_pen_width_em'] * 1024:.0f}/1024 em, mean) "
              f"| {result['round_pen_mean_iou']:.3f} |",
+             "",
+             "| edge figures against the outlines | brush | round pen |",
+             "|---|---|---|",
+             f"| excess edge roughness (px; contour vs its Gaussian-smoothed copy, sigma 6 px), mean "
+             f"| {result['roughness']:.3f} | {result['round_pen_roughness']:.3f} |",
+             f"| perimeter ratio (ink / outlines), median | {result['perimeter_ratio']:.3f} "
+             f"| {result['round_pen_perimeter_ratio']:.3f} |",
+             f"| ink pieces beyond the outlines' own | {result['extra_pieces']} | {result['round_pen_extra_pieces']} |",
+             "",
+             "beads at exits (strokes whose footprint necks and swells again at the end): "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items()),
+             f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "
+             f"{result['solver']['substeps']} sub-steps, deepest penetration "
+             f"{result['solver']['max_penetration_mm']:.4f} mm",
+             "resolution (the ink written at 2x and 4x the size, downsampled, IoU against it at this size): "
+             + "  ".join(f"{c} {a:.3f} {b:.3f}" for c, a, b in result["resolution"]),
              "",
              "worst: " + "  ".join(f"{c} U+{ord(c):04X} {s:.3f}" for c, s in result["worst"]),
              "where the ink misses (fractions of all outline pixels; head and end: first and last 15% of "

@@ -5,10 +5,13 @@ the image, so ink and outlines compare pixel for pixel. Filling goes through Ope
 """
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 
 from .model import Glyph, GlyphError
+from ..writing.targets import beaded  # noqa: F401  (scored here as well)
 from .svgpath import parse_svg_path
 
 _SHIFT = 4  # cv2.fillPoly fixed-point bits: vertices placed to 1/16 px
@@ -130,14 +133,44 @@ def pieces(ink: np.ndarray, ref: np.ndarray) -> tuple[int, int]:
     return max(0, int(kept.sum()) - (n_ref - 1)), specks
 
 
-def beaded(widths_mm) -> bool:
-    """A bead at a stroke's end: the footprint's widths (mm, one a frame from the first touch to
-    the lift) dip over their last 30% and then grow to 1.6 times the dip and 0.4 mm over it (a
-    bulb after a neck, as a soft tip that folded is pressed down again)."""
-    low = np.inf
-    widths = np.asarray(widths_mm, dtype=float)
-    for w in widths[int(0.7 * len(widths)):]:
-        low = min(low, w)
-        if w >= 1.6 * low and w >= low + 0.4:
-            return True
-    return False
+# the edge figures: how smooth and how long the ink's outline is (a brush's edge against a felt
+# marker's waver), measured on the contours of a mask, in px of that mask
+EDGE_SIGMA_PX = 6.0      # px: the Gaussian along the contour that keeps the shape and drops the waver
+MIN_CONTOUR_PX = 8.0     # px: shorter contours are dust at the mask threshold, left out
+
+
+def contours(mask: np.ndarray) -> list[np.ndarray]:
+    """The closed outlines (outer and holes) of a bool mask, each (n, 2) px resampled every 1 px
+    of arc length; dust shorter than MIN_CONTOUR_PX is left out."""
+    found, _ = cv2.findContours(mask.astype(np.uint8), cv2.RETR_LIST, cv2.CHAIN_APPROX_NONE)
+    out = []
+    for c in found:
+        pts = c[:, 0, :].astype(float)                                  # (k, 2) px
+        closed = np.vstack([pts, pts[:1]])
+        arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(closed, axis=0).T))]   # (k + 1,) px
+        if arc[-1] < MIN_CONTOUR_PX:
+            continue
+        s = np.arange(0.0, arc[-1], 1.0)
+        out.append(np.stack([np.interp(s, arc, closed[:, 0]), np.interp(s, arc, closed[:, 1])], axis=1))
+    return out
+
+
+def _smooth_closed(pts: np.ndarray, sigma: float) -> np.ndarray:
+    """(n, 2) points of a closed curve (1 px apart) convolved along it with a Gaussian of sigma px."""
+    r = int(math.ceil(3.0 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    wrapped = pts[np.arange(-r, len(pts) + r) % len(pts)]                # (n + 2r, 2), around the loop
+    return np.stack([np.convolve(wrapped[:, k], kernel, mode="valid") for k in range(2)], axis=1)
+
+
+def edge_figures(mask: np.ndarray, sigma: float = EDGE_SIGMA_PX) -> tuple[float, float]:
+    """(roughness px, perimeter px) of a bool mask's outlines: roughness is the mean distance of
+    the contour points from the contour's own Gaussian-smoothed copy (sigma px along it, point to
+    its smoothed point), over all contours by length; perimeter is their total length."""
+    loops = contours(mask)
+    length = float(sum(len(c) for c in loops))
+    if not loops:
+        return 0.0, 0.0
+    dist = sum(float(np.hypot(*(c - _smooth_closed(c, sigma)).T).sum()) for c in loops)
+    return dist / length, length

@@ -17,6 +17,7 @@ through the character. Styles are data (`styles/*.json`); variation is seeded.
 """
 from __future__ import annotations
 
+import copy
 import math
 
 import numpy as np
@@ -26,7 +27,7 @@ from ..paper import Paper
 from ..recorded import root_height
 from ..scene import Scene
 from .style import Style, family
-from .targets import _centroid_and_width, stroke_targets
+from .targets import _centroid_and_width, beaded, stroke_targets
 
 # the driver's constants (L: the tuft length)
 PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
@@ -34,6 +35,9 @@ PRESS_ON = 0.02           # L: press added per frame while a pressing brush has 
 HOLD_FRAMES = 3           # frames a pressing brush is pressed deeper at most while it floats off the paper
 TRAVEL_STEP = 4.0         # step_mm: the brush moves this many frame steps per frame in the air
 TRAVEL_FRAMES = (2, 10)   # frames of one travel between strokes, fewest and most
+# the stroke families whose exit tapers (出锋): the left-falling 撇 and rising 提 thin out, the
+# right-falling 捺 leaves its pressed foot and the hook 钩 its flick as the press eases
+TAPERING = ("tapered", "rising", "flared", "hook")
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -62,6 +66,29 @@ class Writer:
         self.holds = 0                    # frames re-stepped deeper because a pressing brush floated off the paper
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
+        self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
+        self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
+        # the solver over every frame written: steps, steps stopped at the iteration cap q_max,
+        # SQP iterations, sub-steps, the deepest penetration of the shrunk sections (mm)
+        self.solver = {"steps": 0, "steps_at_q_max": 0, "iterations": 0, "substeps": 0, "max_penetration_mm": 0.0}
+        self.planning = False             # rehearsing a stroke (no deposit, no tallies)
+        self.rehearsed = 0                # solver steps spent rehearsing
+        self.root = np.zeros(2)           # mm: the root's xy on the last frame
+        self.log = _Log()                 # the last travel along a centreline, frame by frame
+
+    def _solve(self, pose: Pose):
+        """One brush step, tallied in self.solver; returns the core's StepStats."""
+        stats = self.brush.step(pose)
+        if self.planning:
+            self.rehearsed += 1
+            return stats
+        tally = self.solver
+        tally["steps"] += 1
+        tally["steps_at_q_max"] += int(stats.iterations >= self.shape.q_max)
+        tally["iterations"] += stats.iterations
+        tally["substeps"] += stats.substeps
+        tally["max_penetration_mm"] = max(tally["max_penetration_mm"], stats.max_penetration)
+        return stats
 
     def _step(self, target: np.ndarray, heading: float, press: float, tilt: float, keep_down: bool = False) -> None:
         """One frame at `target` (mm) heading `heading` (rad) with `press` (L) and `tilt` (deg), and
@@ -69,10 +96,15 @@ class Writer:
         c, s = math.cos(heading), math.sin(heading)
         off = np.array([c * self.offset_local[0] - s * self.offset_local[1],
                         s * self.offset_local[0] + c * self.offset_local[1]])
-        root = target + off
+        self._pose_step(target + off, heading, press, tilt, keep_down)
+
+    def _pose_step(self, root: np.ndarray, heading: float, press: float, tilt: float, keep_down: bool = False) -> None:
+        """One frame with the root over `root` (2,) mm, pressed `press` L; deposits unless planning;
+        `keep_down` as for _step."""
+        self.root = root
         z = root_height(self.shape, tilt, press)
         pose = Pose((root[0], root[1], z), tilt, math.degrees(heading))
-        stats = self.brush.step(pose)
+        stats = self._solve(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
         # a pressing brush that leaves the paper in the travel of a stroke (a bent, plastically set
         # tuft whose tip curls up under a light press: a true equilibrium) is pressed PRESS_ON
@@ -83,10 +115,16 @@ class Writer:
                 break
             press = min(press + PRESS_ON, PRESS_MAX)
             pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
-            stats = self.brush.step(pose)
+            stats = self._solve(pose)
             self.contact = self.brush.footprint()
             self.frames += 1
             self.holds += 1
+        if self.planning:                   # a rehearsal: the paper is left alone
+            self.touching = self.touched_in_stroke = bool(self.contact)
+            return
+        seen = _centroid_and_width(self.contact, heading)
+        if seen is not None or self.widths:              # from the first touch on
+            self.widths.append(0.0 if seen is None else seen[1])
         dep = self.paper.deposit(self.brush)
         # a break: the brush came down again after leaving the paper within one stroke
         self.breaks += int(dep.new_stroke and self.touched_in_stroke)
@@ -120,20 +158,65 @@ class Writer:
         st = self.style
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
+        self.widths = []
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
         aim = _Aim(st, path, s, width)
-        self._come_down(aim, heading[0])
         # 出锋: near the end of a tapering stroke the press only eases. The footprint does not
         # thin with the press: the spread belly keeps its width, then leaves the paper within a
         # frame or two and only the tip touches. A loop free to press again brought the belly
         # down on a folded tip, a bead at the end of a left-falling stroke 撇; eased only, the tip
         # alone drew a hairline past the end. So the travel ends where the belly has left, and
         # the brush lifts there
-        tapering = st.taper_from is not None and family(kind) in ("tapered", "rising")
-        j = self._along(aim, heading, w_nom, tapering)
+        tapering = st.taper_from is not None and family(kind) in TAPERING
+        plan = self._plan(aim, heading, w_nom, tapering) if st.plan_passes > 0 else None
+        self._come_down(aim, heading[0])
+        j = self._along(aim, heading, w_nom, tapering, plan)
         self._lift(aim.target(self, j), heading[j], tapering)
         self.paper.end_stroke()
+        tally = self.beads.setdefault(family(kind), [0, 0])
+        tally[0] += int(beaded(self.widths))
+        tally[1] += 1
+
+    # what a rehearsal must put back: the brush's state and the writer's own
+    _REHEARSED = ("press", "offset_local", "behind", "ahead", "touching", "touched_in_stroke", "frames", "holds",
+                  "breaks", "widths", "contact", "root")
+
+    def _plan(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool) -> "_Plan":
+        """Iterative learning control of one stroke: rehearse it (the brush's state kept and put
+        back, nothing deposited) with the frame-by-frame loops, take the poses they chose as a
+        plan, low-pass it, and `plan_passes` times replay the plan open-loop, measure the
+        footprint's centre and width against the aim, and correct the whole plan by the
+        low-passed errors. Returns the plan whose rehearsal came closest (the loops' own poses
+        among them)."""
+        st = self.style
+        snap = ({k: copy.deepcopy(getattr(self, k)) for k in self._REHEARSED}, self.brush.state().copy())
+        self.planning = True
+        try:
+            log = self._rehearse(aim, heading, w_nom, tapering, None, snap)
+            tried = [(log.error(aim), _Plan(log.root, log.press))]
+            plan = tried[0][1].smoothed(log, st.plan_sigma_mm / st.step_mm)
+            for _ in range(st.plan_passes):
+                log = self._rehearse(aim, heading, w_nom, tapering, plan, snap)
+                tried.append((log.error(aim), plan))
+                plan = plan.corrected(log, aim, st)
+            return min(tried, key=lambda t: t[0])[1]
+        finally:
+            self.planning = False
+            self._restore(snap)
+
+    def _restore(self, snap: tuple) -> None:
+        for k, v in snap[0].items():
+            setattr(self, k, copy.deepcopy(v))
+        self.brush.set_state(snap[1].copy())
+
+    def _rehearse(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool, plan: "_Plan | None",
+                  snap: tuple) -> "_Log":
+        """Come down and travel along (with the loops, or replaying `plan`) from the state `snap`."""
+        self._restore(snap)
+        self._come_down(aim, heading[0])
+        self._along(aim, heading, w_nom, tapering, plan)
+        return self.log
 
     def _come_down(self, aim: "_Aim", h0: float) -> None:
         """Come down at the start: while in the air the tip is aimed at the stroke's start (the
@@ -154,24 +237,43 @@ class Writer:
             else:
                 self._observe(p0, h0, aim.width[0] if t >= 1.0 else None)
 
-    def _along(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool) -> int:
-        """The travel along the centreline; returns the index of its last frame."""
+    def _along(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool,
+               plan: "_Plan | None" = None) -> int:
+        """The travel along the centreline, with the loops or replaying `plan`; logged in
+        self.log; returns the index of its last frame."""
         st, width = self.style, aim.width
-        for j in range(len(aim.path)):
-            if j > 0:
-                # feedforward: the press follows the profile's own change at once (L per unit of
-                # relative width change); the footprint loop only trims. A spread tuft keeps its
-                # width while the press eases (the hairs stick splayed), so a tapering exit 出锋
-                # must lift ahead of what the footprint shows
-                self.press = float(_clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom,
-                                         0.0, PRESS_MAX))
+        self.log = _Log()
+        for j in range(len(aim.path) if plan is None else len(plan.press)):
             pj = aim.target(self, j)
-            self._step(pj, heading[j], self.press, st.tilt_deg, keep_down=not (tapering and aim.tapers_at(j)))
-            eased = self.press
-            self._observe(pj, heading[j], width[j])
+            if plan is None:
+                if j > 0:
+                    # feedforward: the press follows the profile's own change at once (L per unit of
+                    # relative width change); the footprint loop only trims. A spread tuft keeps its
+                    # width while the press eases (the hairs stick splayed), so a tapering exit 出锋
+                    # must lift ahead of what the footprint shows
+                    self.press = float(_clip(self.press + st.press_feedforward * (width[j] - width[j - 1]) / w_nom,
+                                             0.0, PRESS_MAX))
+                self._step(pj, heading[j], self.press, st.tilt_deg, keep_down=not (tapering and aim.tapers_at(j)))
+                eased = self.press
+                self._observe(pj, heading[j], width[j])
+            else:
+                self.press = eased = float(plan.press[j])
+                self._pose_step(plan.root[j], heading[j], eased, st.tilt_deg, keep_down=not (tapering and aim.tapers_at(j)))
+                self._follow(pj, heading[j])
+            self.log.add(self.root, eased, pj, heading[j], self.contact)
             if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
                 break
         return j
+
+    def _follow(self, target: np.ndarray, heading: float) -> None:
+        """On a replayed plan: what the loops would have learned, the footprint's reach and the
+        root's offset from the aim (the lift returns along it; the next stroke starts from it)."""
+        seen = _centroid_and_width(self.contact, heading)
+        if seen is not None:
+            self.behind, self.ahead = seen[2], seen[3]
+        c, s = math.cos(heading), math.sin(heading)
+        d = self.root - target
+        self.offset_local = np.array([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
 
     def _taper_ends(self, eased: float, heading: float, width: float) -> bool:
         """On a tapering exit the press only eases; True once the belly has left the paper."""
@@ -182,7 +284,9 @@ class Writer:
     def _lift(self, end: np.ndarray, h: float, tapering: bool) -> None:
         """Lift while drawing the root back over the footprint (回锋, returning the tip), so the
         unbending tuft does not sweep ink past the stroke's end; a tapered exit has no tip to
-        return (only the tip touches as the travel ends): it lifts where it stands."""
+        return (only the tip touches as the travel ends): it leaves the paper at once, where it
+        stands (eased up, the folded tip of a 捺 or a hook came down again behind the collapsed
+        footprint, a bead at the exit)."""
         st = self.style
         back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering else self.offset_local[0])
         # Once a deposit leaves no ink (the belly may already have left on the travel's last
@@ -190,7 +294,7 @@ class Writer:
         # springing back as the root rose slowly swung its tip down onto the paper again, a dot
         # past the stroke's end
         for j in range(st.exit_frames):
-            if not self.touching:
+            if tapering or not self.touching:
                 self._step(end - back, h, -st.hover, st.tilt_deg)
                 break
             t = (j + 1) / st.exit_frames
@@ -205,7 +309,7 @@ class Writer:
         z_hover = root_height(self.shape, st.tilt_deg, -st.hover)
         for j in range(n):
             t = (j + 1) / n
-            self.brush.step(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
+            self._solve(Pose((root[0] + (to_mm[0] - root[0]) * t, root[1] + (to_mm[1] - root[1]) * t,
                                   z_hover), st.tilt_deg, math.degrees(heading)))
             self.paper.deposit(self.brush)
             self.frames += 1
@@ -250,6 +354,105 @@ class _Aim:
         """Past taper_from along the median, where the profile thins toward the next point."""
         w = self.width
         return self.s[j] > self.st.taper_from * self.length and j + 1 < len(self.path) and w[j + 1] < w[j]
+
+
+def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
+    """(m, ...) values along a stroke's frames convolved with a Gaussian of `sigma` frames
+    along the first axis, the ends held."""
+    if sigma <= 0.0 or len(a) < 2:
+        return a.copy()
+    r = int(math.ceil(3.0 * sigma))
+    kernel = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    padded = a[np.clip(np.arange(-r, len(a) + r), 0, len(a) - 1)]
+    flat = padded.reshape(len(padded), -1)
+    return np.stack([np.convolve(flat[:, k], kernel, mode="valid") for k in range(flat.shape[1])],
+                    axis=1).reshape(a.shape)
+
+
+def _ramp(m: int, sigma: float) -> np.ndarray:
+    """(m,) 0 at a travel's first frame rising to 1 over ~sigma frames: the travel starts where
+    the come-down left the brush, and a plan's changes fade in from there."""
+    return 1.0 - np.exp(-np.arange(m) / max(sigma, 1e-6))
+
+
+def _pinned(a: np.ndarray, sigma: float) -> np.ndarray:
+    """`a` (m, ...) low-passed (`sigma` frames), its first frame kept (faded in by _ramp)."""
+    smooth = _lowpass(a, sigma)
+    ramp = _ramp(len(a), sigma).reshape((-1,) + (1,) * (a.ndim - 1))
+    return smooth + (1.0 - ramp) * (a[:1] - smooth[:1])
+
+
+class _Log:
+    """One travel along a centreline, a row a frame: the root's xy (mm), the press (L), the aim
+    point (mm), the footprint's centre (mm; NaN off the paper) and its width across the travel
+    (mm; 0 off the paper)."""
+
+    def __init__(self):
+        self.rows: list = []
+
+    def add(self, root, press: float, aim_point, heading: float, loops) -> None:
+        """A frame: the footprint `loops` seen from `aim_point` (2,) mm, the travel along `heading`
+        rad: its area centroid and its extent across the travel (the ink's edges)."""
+        seen = _centroid_and_width(loops, heading)
+        if seen is None:
+            self.rows.append((*root, press, *aim_point, np.nan, np.nan, 0.0))
+            return
+        t = np.array([math.cos(heading), math.sin(heading)])
+        n = np.array([-t[1], t[0]])
+        across = np.concatenate([np.asarray(loop)[:, :2] for loop in loops]) @ n - float(np.dot(aim_point, n))
+        lo, hi = float(across.min()), float(across.max())
+        # the footprint's centre: along the travel its centroid, across it the middle of its edges
+        centre = np.asarray(aim_point) + float(np.dot(seen[0] - aim_point, t)) * t + 0.5 * (lo + hi) * n
+        self.rows.append((*root, press, *aim_point, *centre, hi - lo))
+
+    @property
+    def table(self) -> np.ndarray:
+        """(m, 8): root x y, press, aim x y, centre x y, width."""
+        return np.array(self.rows, dtype=float).reshape(-1, 8)
+
+    root = property(lambda self: self.table[:, 0:2])
+    press = property(lambda self: self.table[:, 2])
+
+    def errors(self, aim: "_Aim") -> tuple[np.ndarray, np.ndarray]:
+        """(m, 2) mm aim - centre (0 off the paper) and (m,) relative width error (w_aim - w) / w_aim."""
+        t = self.table
+        pos = np.nan_to_num(t[:, 3:5] - t[:, 5:7])
+        w_aim = aim.width[:len(t)]
+        return pos, (w_aim - t[:, 7]) / np.maximum(w_aim, 1e-3)
+
+    def error(self, aim: "_Aim") -> float:
+        """How far the footprint's edges were from the aim's, mean square over the frames, in
+        units of the width: (position error / width)^2 + (relative width error)^2 / 2."""
+        if not self.rows:
+            return math.inf
+        pos, rel = self.errors(aim)
+        w_aim = aim.width[:len(rel)]
+        return float(np.mean((pos ** 2).sum(axis=1) / w_aim ** 2 + 0.5 * rel ** 2))
+
+
+class _Plan:
+    """A stroke's poses for its travel, a row a frame: root (m, 2) mm, press (m,) L."""
+
+    def __init__(self, root: np.ndarray, press: np.ndarray):
+        self.root, self.press = np.asarray(root, dtype=float), np.asarray(press, dtype=float)
+
+    def smoothed(self, log: _Log, sigma: float) -> "_Plan":
+        """The plan low-passed (`sigma` frames): the root's offset from the aim and the press."""
+        aim = log.table[:, 3:5]
+        return _Plan(aim + _pinned(self.root - aim, sigma), _pinned(self.press, sigma))
+
+    def corrected(self, log: _Log, aim: "_Aim", st: Style) -> "_Plan":
+        """The plan moved by the low-passed errors of its rehearsal `log`: the root by
+        plan_position_gain of the footprint's position error, the press by plan_press_gain L per
+        unit of relative width error. Frames past where the rehearsal stopped are dropped."""
+        pos, rel = log.errors(aim)
+        sigma = st.plan_sigma_mm / st.step_mm
+        m = len(rel)
+        ramp = _ramp(m, sigma)
+        root = self.root[:m] + st.plan_position_gain * ramp[:, None] * _lowpass(pos, sigma)
+        press = np.clip(self.press[:m] + st.plan_press_gain * ramp * _lowpass(rel, sigma), 0.0, PRESS_MAX)
+        return _Plan(root, press)
 
 
 MAX_SIDE = 32768     # px: the paper's largest side
