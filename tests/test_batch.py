@@ -646,7 +646,8 @@ def _trace_exit(style, size=512):
         seen = _centroid_and_width(writer.contact, heading)
         c, s = math.cos(heading), math.sin(heading)
         off = writer.offset_local
-        rows.append((press, seen[1] if seen else 0.0, target + (c * off[0] - s * off[1], s * off[0] + c * off[1])))
+        rows.append((press, seen[1] if seen else 0.0, target + (c * off[0] - s * off[1], s * off[0] + c * off[1]),
+                     keep_down))
 
     def traced_observe(target, heading, width_target):
         observe(target, heading, width_target)
@@ -669,9 +670,10 @@ def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
     widths = [r[1] for r in rows]
     assert not beaded(widths)
     travel = [r[0] for r in rows[:exit_at]]
-    # frames past taper_from of the travel (rows start with the entry's presses, so this index
-    # is, if anything, later than where the rule starts; +2 for rounding of the 1 mm steps)
-    start = int(kai.taper_from * len(travel)) + 2
+    # the travel's frames past taper_from: the first not kept down after those that are
+    kept = [r[3] for r in rows[:exit_at]]
+    start = kept.index(False, kept.index(True))
+    assert start >= int(kai.taper_from * len(travel))
     assert all(b <= a + 1e-12 for a, b in zip(travel[start:], travel[start + 1:]))
     exit_roots = np.array([r[2] for r in rows[exit_at:]])
     # (fewer than exit_frames when the brush leaves the paper early: the rest of the lift is one frame)
