@@ -2,6 +2,7 @@
 
     brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent]
     brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
+    brushwork font --chars TEXT | --charset FILE -o OUT.{otf,ttf,woff2,ufo} [--style S] [--jobs N] [--executor local|ray]
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
@@ -222,6 +223,8 @@ def _batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
                                                    "beside a reference Kai font when one is installed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
+                                                       "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
     _look_args(p)
     _image_args(p)
 
@@ -248,7 +251,7 @@ def _batch(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress, samples=args.samples)
+                          progress=not args.no_progress, samples=args.samples, executor=args.executor)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
@@ -308,6 +311,19 @@ def _bench_batch(args: argparse.Namespace) -> int:
     return _report("batch", args, lambda: glyphs.run_batch_bench(args.source, args.count, args.size, args.jobs,
                                                                  args.style, samples=args.samples),
                    glyphs.batch_table)
+
+
+# font (brushwork.font: its options and handler live there)
+def _font_args(p: argparse.ArgumentParser) -> None:
+    from .font import cli
+
+    cli.add_arguments(p)
+
+
+def _font(args: argparse.Namespace) -> int:
+    from .font import cli
+
+    return cli.handle(args)
 
 
 # demo (brushwork.demo is someone else's module: imported only when asked for)
@@ -413,6 +429,7 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "render": ("write characters with the brush to one PNG", _render_text_args, _render_text),
     "batch": ("render many characters, one PNG each, in parallel; resumable", _batch_args, _batch),
+    "font": ("build an OTF, TTF, WOFF2 or UFO font of characters written by the brush; resumable", _font_args, _font),
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
     "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",
