@@ -37,14 +37,34 @@ def shaped_glyphs(path: str | os.PathLike, text: str) -> list:
     return [order[i.codepoint] for i in buf.glyph_infos]
 
 
-def freetype_coverage(path: str | os.PathLike, char: str, em: Em) -> np.ndarray:
-    """(N, N) float coverage in [0, 1] of char's glyph rasterised by FreeType unhinted at
-    N = em.size px per em, placed in the em square as the brush's N x N render is."""
+def _freetype_face(path: str | os.PathLike):
+    """A FreeType face of the font at path; a WOFF2 is unpacked by fontTools first (FreeType
+    builds without Brotli read no WOFF2)."""
+    import io
+
     import freetype
 
-    face = freetype.Face(os.fspath(path))
+    if os.fspath(path).lower().endswith(".woff2"):
+        from fontTools.ttLib import TTFont
+
+        font = TTFont(os.fspath(path))
+        font.flavor = None
+        buf = io.BytesIO()
+        font.save(buf)
+        buf.seek(0)
+        return freetype.Face(buf)
+    return freetype.Face(os.fspath(path))
+
+
+def freetype_coverage(path: str | os.PathLike, char: str, em: Em, baseline: float | None = None) -> np.ndarray:
+    """(N, N) float coverage in [0, 1] of char's glyph rasterised by FreeType unhinted at
+    N = em.size px per em, placed in the em square as the brush's N x N render is (or with the
+    baseline `baseline` px below the top edge)."""
+    import freetype
+
+    face = _freetype_face(path)
     face.set_pixel_sizes(em.size, em.size)
-    base = em.ascender * em.size / em.upm                 # px: the baseline's depth below the top edge
+    base = em.ascender * em.size / em.upm if baseline is None else baseline   # px below the top edge
     row, frac = int(np.floor(base)), base - np.floor(base)
     # shift the outline down by the baseline's fraction of a pixel (26.6 fixed point)
     face.set_transform(freetype.Matrix(0x10000, 0, 0, 0x10000), freetype.Vector(0, -int(round(frac * 64))))
