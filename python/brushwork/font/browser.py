@@ -28,7 +28,8 @@ def find_chromium() -> tuple:
 
 
 def _page(font_path: str, text: str, px: int) -> str:
-    data = base64.b64encode(open(font_path, "rb").read()).decode()
+    with open(font_path, "rb") as f:
+        data = base64.b64encode(f.read()).decode()
     return ("<!doctype html><html><head><meta charset='utf-8'><style>"
             f"@font-face{{font-family:BrushworkTest;src:url(data:font/woff2;base64,{data}) format('woff2')}}"
             "html,body{margin:0;background:#fff}"

@@ -18,7 +18,8 @@ from .outline import ASCENDER, DESCENDER, UPM
 FORMATS = (".otf", ".ttf", ".woff2", ".ufo")
 QUAD_ERR = 0.5            # font units: the farthest a glyf quadratic strays from its cubic
 NOTDEF_MARGIN = 0.1       # of the em: the .notdef box's inset
-CODEPAGE_BITS = {"gb2312": 18}   # OS/2 ulCodePageRange1 bit 18: Chinese Simplified (GB 2312, code page 936)
+# OS/2 ulCodePageRange1 bits of the CJK code pages, by the Python codec of each
+CODEPAGE_BITS = {"cp932": 17, "gb2312": 18, "cp949": 19, "big5": 20}
 
 
 @dataclass
@@ -165,7 +166,7 @@ def _names(info: FontInfo) -> dict:
             "version": f"Version {info.version}", "licenseDescription": info.licence}
 
 
-def _os2(fb, info: FontInfo, bounds: list) -> None:
+def _os2(fb, info: FontInfo, bounds: list, chars: str) -> None:
     """OS/2 version 4: typo metrics used for line spacing (fsSelection bit 7), win metrics that
     clear every glyph, and the Unicode-range and code-page bits of the characters mapped."""
     top = max([info.ascender] + [b[3] for b in bounds])
@@ -175,7 +176,26 @@ def _os2(fb, info: FontInfo, bounds: list) -> None:
                 achVendID="BRSH", xAvgCharWidth=info.upm, fsType=0)
     os2 = fb.font["OS/2"]
     os2.recalcUnicodeRanges(fb.font)
-    os2.recalcCodePageRanges(fb.font)
+    os2.ulCodePageRange1, os2.ulCodePageRange2 = code_pages(chars), 0
+
+
+def _encodes(char: str, codec: str) -> bool:
+    try:
+        char.encode(codec)
+        return True
+    except UnicodeEncodeError:
+        return False
+
+
+def code_pages(chars: str) -> int:
+    """ulCodePageRange1 for a font of chars: bit 0 (Latin 1) when it has ASCII letters, and each
+    CJK code page's bit when at least half its other characters are in that code page."""
+    wide = [c for c in chars if ord(c) > 0x7F]
+    bits = int(any(c.isascii() and c.isalpha() for c in chars))
+    for codec, bit in CODEPAGE_BITS.items():
+        if wide and 2 * sum(_encodes(c, codec) for c in wide) >= len(wide):
+            bits |= 1 << bit
+    return bits
 
 
 def make_font(outlines: dict, info: FontInfo, cff: bool = True):
@@ -209,7 +229,7 @@ def make_font(outlines: dict, info: FontInfo, cff: bool = True):
     if cff:
         fb.setupVerticalOrigins({}, info.ascender)
     fb.setupNameTable(_names(info))
-    _os2(fb, info, bounds)
+    _os2(fb, info, bounds, "".join(chars))
     fb.setupPost(keepGlyphNames=not cff)
     stamp = _timestamp()
     fb.setupHead(unitsPerEm=info.upm, fontRevision=float(info.version), created=stamp, modified=stamp)

@@ -33,7 +33,8 @@ def shaped_glyphs(path: str | os.PathLike, text: str) -> list:
     buf.add_str(text)
     buf.guess_segment_properties()
     hb.shape(font, buf)
-    order = TTFont(path, lazy=True).getGlyphOrder()
+    with TTFont(os.fspath(path), lazy=True) as ttf:
+        order = ttf.getGlyphOrder()
     return [order[i.codepoint] for i in buf.glyph_infos]
 
 
@@ -47,10 +48,10 @@ def _freetype_face(path: str | os.PathLike):
     if os.fspath(path).lower().endswith(".woff2"):
         from fontTools.ttLib import TTFont
 
-        font = TTFont(os.fspath(path))
-        font.flavor = None
         buf = io.BytesIO()
-        font.save(buf)
+        with TTFont(os.fspath(path)) as font:
+            font.flavor = None
+            font.save(buf)
         buf.seek(0)
         return freetype.Face(buf)
     return freetype.Face(os.fspath(path))
@@ -99,8 +100,6 @@ def outline_points(path: str | os.PathLike, char: str, steps: int = 16) -> np.nd
     from fontTools.pens.basePen import BasePen
     from fontTools.ttLib import TTFont
 
-    font = TTFont(os.fspath(path))
-    glyphs = font.getGlyphSet()
     pts: list = []
 
     class _Flatten(BasePen):
@@ -117,7 +116,9 @@ def outline_points(path: str | os.PathLike, char: str, steps: int = 16) -> np.nd
             pts.extend(((1 - u) ** 3 * c[0] + 3 * (1 - u) ** 2 * u * c[1] + 3 * (1 - u) * u * u * c[2]
                         + u ** 3 * c[3]).tolist())
 
-    glyphs[font.getBestCmap()[ord(char)]].draw(_Flatten(glyphs))
+    with TTFont(os.fspath(path)) as font:
+        glyphs = font.getGlyphSet()
+        glyphs[font.getBestCmap()[ord(char)]].draw(_Flatten(glyphs))
     return np.array(pts, dtype=float).reshape(-1, 2)
 
 
