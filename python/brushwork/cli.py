@@ -8,6 +8,7 @@
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
+    brushwork bench font [--count 60] [--jobs 2] [--executor local|ray] [--json FILE]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork demo [-o FILE]
 
@@ -326,6 +327,19 @@ def _font(args: argparse.Namespace) -> int:
     return cli.handle(args)
 
 
+def _bench_font_args(p: argparse.ArgumentParser) -> None:
+    from .bench import font
+
+    font.add_arguments(p)
+
+
+def _bench_font(args: argparse.Namespace) -> int:
+    from .bench import font
+
+    tols = [float(t) for t in args.tolerances.split(",") if t.strip()]
+    return _report("font", args, lambda: font.run(args.count, args.jobs, args.executor, args.style, tols), font.table)
+
+
 # demo (brushwork.demo is someone else's module: imported only when asked for)
 def _demo_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("-o", "--output", metavar="FILE", default=None,
@@ -411,6 +425,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "batch": ("characters per second of `brushwork batch`, and where the time goes", _bench_batch_args,
               _bench_batch),
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
+    "font": ("points, size, build time and FreeType-vs-render fidelity of `brushwork font`", _bench_font_args,
+             _bench_font),
     "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
              _fuzz_args, _fuzz),
 }

@@ -20,8 +20,8 @@ def _unit(v: np.ndarray) -> np.ndarray:
 def _bezier(c: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Points (n, 2) of the cubic c (4, 2) at parameters u (n,)."""
     s = 1.0 - u
-    b = np.stack([s ** 3, 3 * s * s * u, 3 * s * u * u, u ** 3], axis=1)
-    return b @ c
+    return np.outer(s * s * s, c[0]) + np.outer(3 * s * s * u, c[1]) + np.outer(3 * s * u * u, c[2]) \
+        + np.outer(u * u * u, c[3])
 
 
 def _chord_params(p: np.ndarray) -> np.ndarray:
@@ -32,20 +32,21 @@ def _chord_params(p: np.ndarray) -> np.ndarray:
 
 def _least_squares(p: np.ndarray, u: np.ndarray, t0: np.ndarray, t1: np.ndarray) -> np.ndarray:
     """The cubic from p[0] to p[-1] leaving along t0 and arriving against t1 (both unit, t1
-    pointing back into the curve) whose handle lengths a0, a1 fit p at u best in least squares."""
+    pointing back into the curve) whose handle lengths a0, a1 fit p at u best in least squares:
+    the 2 x 2 normal equations of Schneider's fit, solved by Cramer's rule."""
     s = 1.0 - u
-    b0, b1, b2, b3 = s ** 3, 3 * s * s * u, 3 * s * u * u, u ** 3
-    a0, a1 = b1[:, None] * t0, b2[:, None] * t1
-    rest = p - np.outer(b0 + b1, p[0]) - np.outer(b2 + b3, p[-1])
-    m = np.array([[np.sum(a0 * a0), np.sum(a0 * a1)], [np.sum(a0 * a1), np.sum(a1 * a1)]])
-    r = np.array([np.sum(a0 * rest), np.sum(a1 * rest)])
-    chord = float(np.linalg.norm(p[-1] - p[0]))
-    det = np.linalg.det(m)
-    alpha = np.linalg.solve(m, r) if abs(det) > 1e-12 * max(chord, 1e-9) ** 2 else np.zeros(2)
+    b1, b2 = 3 * s * s * u, 3 * s * u * u
+    rest = p - np.outer(s * s * s + b1, p[0]) - np.outer(b2 + u * u * u, p[-1])
+    m00, m11 = float(b1 @ b1), float(b2 @ b2)
+    m01 = float(b1 @ b2) * float(t0 @ t1)
+    r0, r1 = float(b1 @ (rest @ t0)), float(b2 @ (rest @ t1))
+    chord = float(np.hypot(*(p[-1] - p[0])))
+    det = m00 * m11 - m01 * m01
+    a0, a1 = ((r0 * m11 - r1 * m01) / det, (m00 * r1 - m01 * r0) / det) if abs(det) > 1e-12 else (0.0, 0.0)
     # a handle that is negative or vanishing bends the curve back on itself: a third of the chord instead
-    if alpha[0] < 1e-6 * chord or alpha[1] < 1e-6 * chord:
-        alpha = np.array([chord / 3.0, chord / 3.0])
-    return np.array([p[0], p[0] + alpha[0] * t0, p[-1] + alpha[1] * t1, p[-1]])
+    if a0 < 1e-6 * chord or a1 < 1e-6 * chord:
+        a0 = a1 = chord / 3.0
+    return np.array([p[0], p[0] + a0 * t0, p[-1] + a1 * t1, p[-1]])
 
 
 def _newton(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:

@@ -8,7 +8,8 @@ import numpy as np
 
 UPSAMPLE = 4           # sub-pixels per image pixel along each axis the contour follower sees
 MIN_AREA_PX = 0.5      # px^2: specks of ink (or holes) smaller than this are dropped
-SMOOTH_SIGMA = 1.0     # sub-pixels: Gaussian smoothing along a contour (takes the steps out)
+SMOOTH_PX = 1.0        # px: the widest Gaussian smoothing along a contour (takes out the steps and finest facets)
+SPACING_PX = 0.5       # px between the points of a traced contour
 
 
 def ink_coverage(rgb: np.ndarray) -> np.ndarray:
@@ -40,6 +41,15 @@ def _smooth_closed(p: np.ndarray, sigma: float) -> np.ndarray:
     return np.stack([np.convolve(wrapped[:, i], k, mode="valid") for i in range(2)], axis=1)
 
 
+def resample_closed(p: np.ndarray, spacing: float) -> np.ndarray:
+    """The closed polyline p (n, 2) resampled at even steps of about `spacing` along its length."""
+    ring = np.concatenate([p, p[:1]])
+    d = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(ring, axis=0).T))])
+    n = max(int(round(d[-1] / spacing)), 3)
+    s = np.linspace(0.0, d[-1], n, endpoint=False)
+    return np.stack([np.interp(s, d, ring[:, 0]), np.interp(s, d, ring[:, 1])], axis=1)
+
+
 def _away_from_ink(p: np.ndarray) -> np.ndarray:
     """(n, 2) unit normals of the closed polyline p pointing out of the ink: (t_y, -t_x) for the
     tangent t, outwards of a positive-area outer edge and into a negative-area hole."""
@@ -48,10 +58,11 @@ def _away_from_ink(p: np.ndarray) -> np.ndarray:
     return np.stack([t[:, 1], -t[:, 0]], axis=1)
 
 
-def trace(cov: np.ndarray, upsample: int = UPSAMPLE) -> list:
-    """The ink's edge in cov (H, W coverage): a list of closed polylines (n, 2) in px, x right,
+def trace(cov: np.ndarray, smooth_px: float = SMOOTH_PX, upsample: int = UPSAMPLE) -> list:
+    """The ink's edge in cov (H, W coverage): a list of closed polylines (n, 2) in px, points
+    SPACING_PX apart, x right,
     y down, outer edges with a positive shoelace area and holes with a negative one, specks under
-    MIN_AREA_PX dropped."""
+    MIN_AREA_PX dropped; each smoothed along its length by a Gaussian of smooth_px."""
     import cv2
 
     h, w = cov.shape
@@ -68,8 +79,8 @@ def trace(cov: np.ndarray, upsample: int = UPSAMPLE) -> list:
         hole = hierarchy[0][k][3] >= 0
         if (_signed_area(p) > 0) == hole:
             p = p[::-1]
-        p = _smooth_closed(p, SMOOTH_SIGMA)
+        p = _smooth_closed(p, smooth_px * upsample)
         # the follower walks the centres of the edge's ink sub-pixels: the edge is half a sub-pixel out
         p = p + _away_from_ink(p) * (0.5 / upsample)
-        out.append(p)
+        out.append(resample_closed(p, SPACING_PX))
     return out
