@@ -8,3 +8,9 @@ bw="${BRUSHWORK:-.venv/bin/brushwork}"
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
 "$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "${TMPDIR:-/tmp}/brushwork-sheet" \
   --sheet docs/sheet.png --no-progress
+# a line set in a brushwork font by headless Chromium (needs chromium and chromium-driver)
+py="${PYTHON:-.venv/bin/python}"
+fonts="${TMPDIR:-/tmp}/brushwork-font"
+mkdir -p "$fonts"
+"$bw" font --chars 永和九年岁在癸丑暮春 -o "$fonts/line.woff2" --no-progress
+"$py" -m brushwork.font.browser "$fonts/line.woff2" 永和九年岁在癸丑暮春 docs/font_line.png --px 96
