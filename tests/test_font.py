@@ -67,7 +67,7 @@ def _check_tables(font, ext):
         assert tag in font, tag
     assert ("glyf" if ext == ".ttf" else "CFF ") in font
     assert font.getGlyphOrder()[0] == ".notdef"
-    assert set(font.getBestCmap()) == {ord(c) for c in CHARS}
+    assert set(font.getBestCmap()) == {ord(c) for c in CHARS + " \u00a0\u3000"}
     os2, upm = font["OS/2"], font["head"].unitsPerEm
     assert upm in (1000, 1024)
     assert os2.sTypoAscender - os2.sTypoDescender == upm
@@ -76,8 +76,10 @@ def _check_tables(font, ext):
     assert 59 in os2.getUnicodeRanges()                      # CJK Unified Ideographs
     names = {n.nameID: n.toUnicode() for n in font["name"].names}
     assert names[1] == "Brushwork" and names[5] == "Version 1.0" and names[13]
-    for name in font.getGlyphOrder():
+    for c in CHARS + "\u3000":
+        name = font.getBestCmap()[ord(c)]
         assert font["hmtx"][name][0] == upm and font["vmtx"][name][0] == upm
+    assert font["hmtx"]["space"][0] == upm // 4
 
 
 def test_ufo_reads_back(fonts):
@@ -85,7 +87,7 @@ def test_ufo_reads_back(fonts):
     ufo = ufo_lib.Font.open(fonts[".ufo"][0])
     assert ufo.info.unitsPerEm == 1000 and ufo.info.ascender - ufo.info.descender == 1000
     mapped = {u for g in ufo for u in g.unicodes}
-    assert mapped == {ord(c) for c in CHARS}
+    assert mapped == {ord(c) for c in CHARS + " \u00a0\u3000"}
     assert all(len(ufo[f"uni{ord(c):04X}"].contours) > 0 for c in CHARS)
 
 

@@ -18,6 +18,8 @@ from .outline import ASCENDER, DESCENDER, UPM
 FORMATS = (".otf", ".ttf", ".woff2", ".ufo")
 QUAD_ERR = 0.5            # font units: the farthest a glyf quadratic strays from its cubic
 NOTDEF_MARGIN = 0.1       # of the em: the .notdef box's inset
+# the blank glyphs every font carries: char -> (glyph name, advance in ems)
+SPACES = {" ": ("space", 0.25), "\u00a0": ("uni00A0", 0.25), "\u3000": ("uni3000", 1.0)}
 # OS/2 ulCodePageRange1 bits of the CJK code pages, by the Python codec of each
 CODEPAGE_BITS = {"cp932": 17, "gb2312": 18, "cp949": 19, "big5": 20}
 
@@ -36,7 +38,8 @@ class FontInfo:
     def check(self) -> "FontInfo":
         """This info when it can name a font; ValueError in one line otherwise."""
         parts = self.version.split(".")
-        if len(parts) != 2 or not all(p.isdigit() for p in parts) or not 0 < int(parts[0]) * 1000 + 1 < 65536:
+        # head.fontRevision is a signed 16.16 fixed-point number
+        if len(parts) != 2 or not all(p.isdigit() for p in parts) or int(parts[0]) > 32767:
             raise ValueError(f"--version {self.version!r}: expected MAJOR.MINOR, e.g. 1.0")
         if not self.family.strip() or len(self.family) > 63 or not self.family.isprintable():
             raise ValueError(f"--family {self.family!r}: expected 1..63 printable characters")
@@ -173,8 +176,9 @@ def _os2(fb, info: FontInfo, bounds: list, chars: str) -> None:
     bottom = min([info.descender] + [b[1] for b in bounds])
     fb.setupOS2(version=4, sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
                 usWinAscent=int(np.ceil(top)), usWinDescent=int(np.ceil(-bottom)), fsSelection=0x40 | 0x80,
-                achVendID="BRSH", xAvgCharWidth=info.upm, fsType=0)
+                achVendID="BRSH", fsType=0)
     os2 = fb.font["OS/2"]
+    os2.recalcAvgCharWidth(fb.font)
     os2.recalcUnicodeRanges(fb.font)
     os2.ulCodePageRange1, os2.ulCodePageRange2 = code_pages(chars), 0
 
@@ -198,38 +202,49 @@ def code_pages(chars: str) -> int:
     return bits
 
 
+def _glyphs(outlines: dict, info: FontInfo) -> tuple:
+    """(glyph names, their RecordingPens, their advances, code point -> name): .notdef, the
+    spaces, then the outlines' glyphs in code-point order."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    chars = sorted(outlines, key=ord)
+    spaces = [(c, n, round(w * info.upm)) for c, (n, w) in SPACES.items() if c not in outlines]
+    names = [".notdef"] + [n for _, n, _ in spaces] + [glyph_name(c) for c in chars]
+    recs = [notdef(info.upm, info.ascender, info.descender)] + [RecordingPen() for _ in spaces] + \
+        [clean_outline(outlines[c]) for c in chars]
+    advances = [info.upm] + [w for _, _, w in spaces] + [info.upm] * len(chars)
+    cmap = {ord(c): n for c, n, _ in spaces} | {ord(c): glyph_name(c) for c in chars}
+    return names, recs, advances, cmap
+
+
 def make_font(outlines: dict, info: FontInfo, cff: bool = True):
     """A fontTools TTFont of the outlines ({char: contours in font units}), each glyph one em wide
     and one em tall (vertical metrics set for vertical CJK text), with CFF outlines or, when cff is
-    False, glyf quadratics."""
+    False, glyf quadratics; with .notdef and the SPACES."""
     from fontTools.fontBuilder import FontBuilder
 
-    chars = sorted(outlines, key=ord)
-    names = [".notdef"] + [glyph_name(c) for c in chars]
-    recs = [notdef(info.upm, info.ascender, info.descender)] + [clean_outline(outlines[c]) for c in chars]
+    names, recs, advances, cmap = _glyphs(outlines, info)
     bounds = [_bounds(r) for r in recs]
     fb = FontBuilder(info.upm, isTTF=not cff)
     fb.setupGlyphOrder(names)
-    fb.setupCharacterMap({ord(c): glyph_name(c) for c in chars})
+    fb.setupCharacterMap(cmap)
     if cff:
         fb.setupCFF(info.ps_name, {"FullName": f"{info.family} {info.style}", "FamilyName": info.family,
                                    "Weight": info.style, "version": info.version},
-                    {n: _charstring(r, info.upm) for n, r in zip(names, recs)}, {})
+                    {n: _charstring(r, w) for n, r, w in zip(names, recs, advances)}, {})
     else:
         fb.setupGlyf({n: _tt_glyph(r) for n, r in zip(names, recs)})
-    if not cff:
         # TrueType places a glyph by its left side bearing: take it from the quadratics' own box
-        glyf = fb.font["glyf"]
-        bounds = [_glyf_bounds(glyf, n) for n in names]
-    fb.setupHorizontalMetrics({n: (info.upm, int(np.floor(b[0]))) for n, b in zip(names, bounds)})
+        bounds = [_glyf_bounds(fb.font["glyf"], n) for n in names]
+    fb.setupHorizontalMetrics({n: (w, int(np.floor(b[0]))) for n, w, b in zip(names, advances, bounds)})
     fb.setupHorizontalHeader(ascent=info.ascender, descent=info.descender)
     # vertical: one em advance down; a glyph's top side bearing from the em box's top (the ascender)
     fb.setupVerticalHeader(ascent=info.upm // 2, descent=-(info.upm - info.upm // 2))
     fb.setupVerticalMetrics({n: (info.upm, int(np.floor(info.ascender - b[3]))) for n, b in zip(names, bounds)})
     if cff:
         fb.setupVerticalOrigins({}, info.ascender)
-    fb.setupNameTable(_names(info))
-    _os2(fb, info, bounds, "".join(chars))
+    fb.setupNameTable(_names(info), mac=False)
+    _os2(fb, info, bounds, "".join(outlines))
     fb.setupPost(keepGlyphNames=not cff)
     stamp = _timestamp()
     fb.setupHead(unitsPerEm=info.upm, fontRevision=float(info.version), created=stamp, modified=stamp)
@@ -250,11 +265,12 @@ def _write_ufo(outlines: dict, info: FontInfo, path: str) -> None:
     fi.versionMajor, fi.versionMinor = int(major), int(minor)
     fi.openTypeNameLicense = info.licence
     fi.postscriptFontName = info.ps_name
-    for name, rec, char in [(".notdef", notdef(info.upm, info.ascender, info.descender), None)] + \
-            [(glyph_name(c), clean_outline(outlines[c]), c) for c in sorted(outlines, key=ord)]:
+    names, recs, advances, cmap = _glyphs(outlines, info)
+    code = {n: cp for cp, n in cmap.items()}
+    for name, rec, advance in zip(names, recs, advances):
         g = ufo.newGlyph(name)
-        g.width, g.height = info.upm, info.upm
-        g.unicodes = [ord(char)] if char else []
+        g.width, g.height = advance, info.upm
+        g.unicodes = [code[name]] if name in code else []
         rec.replay(g.getPen())
     folder = os.path.dirname(os.path.abspath(path))
     tmp = tempfile.mkdtemp(prefix=".tmp-", suffix=".ufo", dir=folder)
