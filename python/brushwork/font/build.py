@@ -174,7 +174,12 @@ def _os2(fb, info: FontInfo, bounds: list, chars: str) -> None:
     clear every glyph, and the Unicode-range and code-page bits of the characters mapped."""
     top = max([info.ascender] + [b[3] for b in bounds])
     bottom = min([info.descender] + [b[1] for b in bounds])
-    fb.setupOS2(version=4, sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
+    # PANOSE: Latin text family, monospaced proportion (every ideograph is one em wide)
+    from fontTools.ttLib.tables.O_S_2f_2 import Panose
+
+    panose = Panose()
+    panose.bFamilyType, panose.bProportion = 2, 9
+    fb.setupOS2(version=4, panose=panose, sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
                 usWinAscent=int(np.ceil(top)), usWinDescent=int(np.ceil(-bottom)), fsSelection=0x40 | 0x80,
                 achVendID="BRSH", fsType=0)
     os2 = fb.font["OS/2"]
@@ -200,6 +205,21 @@ def code_pages(chars: str) -> int:
         if wide and 2 * sum(_encodes(c, codec) for c in wide) >= len(wide):
             bits |= 1 << bit
     return bits
+
+
+def _smart_dropout(font) -> None:
+    """An unhinted TrueType font's prep program turning smart dropout control on at every size
+    (SCANCTRL 511, SCANTYPE 4), and a gasp table asking for grey-scale smoothing throughout."""
+    from fontTools.ttLib import newTable
+    from fontTools.ttLib.tables import ttProgram
+
+    prep = newTable("prep")
+    prep.program = ttProgram.Program()
+    prep.program.fromAssembly(["PUSHW[ ]", "511", "SCANCTRL[ ]", "PUSHB[ ]", "4", "SCANTYPE[ ]"])
+    font["prep"] = prep
+    gasp = newTable("gasp")
+    gasp.gaspRange = {0xFFFF: 0x000F}
+    font["gasp"] = gasp
 
 
 def _glyphs(outlines: dict, info: FontInfo) -> tuple:
@@ -236,6 +256,7 @@ def make_font(outlines: dict, info: FontInfo, cff: bool = True):
         fb.setupGlyf({n: _tt_glyph(r) for n, r in zip(names, recs)})
         # TrueType places a glyph by its left side bearing: take it from the quadratics' own box
         bounds = [_glyf_bounds(fb.font["glyf"], n) for n in names]
+        _smart_dropout(fb.font)
     fb.setupHorizontalMetrics({n: (w, int(np.floor(b[0]))) for n, w, b in zip(names, advances, bounds)})
     fb.setupHorizontalHeader(ascent=info.ascender, descent=info.descender)
     # vertical: one em advance down; a glyph's top side bearing from the em box's top (the ascender)
