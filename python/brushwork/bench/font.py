@@ -91,6 +91,9 @@ def run(count: int = 60, jobs: int = 2, executor: str = "local", style: str = "k
                   "otf_mb_gb2312": os.path.getsize(otf) / n * len(bt.gb2312()) / 1e6,
                   "seconds": res.seconds, "s_per_glyph": res.seconds / n,
                   "gb2312_min": res.seconds / n * len(bt.gb2312()) / 60.0,
+                  "cpu_s_per_glyph": res.cpu_seconds / n,
+                  "gb2312_min_cpu": (res.cpu_seconds / jobs + res.write_seconds) / n * len(bt.gb2312()) / 60.0,
+                  "load": os.getloadavg()[0],
                   **_fidelity(otf, renders, em), "ttf": _fidelity(ttf, renders, em)}
         result["tradeoff"] = [_trade_row(t, renders, em, tmp) for t in tolerances]
     return result
@@ -105,6 +108,9 @@ def table(r: dict) -> str:
              f"  OTF size for 6,763 glyphs: {r['otf_mb_gb2312']:.1f} MB   (target <= {t['otf_mb']} MB)",
              f"  build time: {r['s_per_glyph']:.3f} s a glyph, render included; GB2312 in {r['gb2312_min']:.1f} min"
              f"   (target <= {t['gb2312_min']:.0f} min)",
+             f"  worker CPU time: {r['cpu_s_per_glyph']:.3f} s a glyph; on {r['jobs']} unshared cores (the "
+             f"workers' CPU time shared out, the font's assembly added) GB2312 in "
+             f"{r['gb2312_min_cpu']:.1f} min (load average during the run: {r['load']:.1f})",
              f"  FreeType 512 px vs the brush's 512 px render, OTF: IoU median {r['iou_median']:.4f}, min "
              f"{r['iou_min']:.4f}, {100 * r['iou_share_099']:.0f}% of glyphs >= {t['iou']}; outline's p90 distance "
              f"from the ink edge <= {r['stray_p90_max']:.2f} units (target <= {t['stray']})",

@@ -35,6 +35,8 @@ class FontResult:
     unknown: int = 0                                # of the failed, characters no source has
     points: list = field(default_factory=list)      # points of each glyph in the font
     seconds: float = 0.0
+    cpu_seconds: float = 0.0                        # the workers' CPU time on the glyphs made
+    write_seconds: float = 0.0                      # assembling and writing the font
     interrupted: bool = False
     source: str = "default"
 
@@ -84,11 +86,12 @@ def _init_worker(style: str, size: int, seed: int, tol: float) -> None:
 
 
 def _outline_one(task: tuple) -> tuple:
-    """(char, Glyph, cache path) -> (char, seconds, error text or None); the outline goes to the cache."""
+    """(char, Glyph, cache path) -> (char, CPU seconds, error text or None); the outline goes to
+    the cache."""
     from ..batch import text_paper
 
     char, glyph, out = task
-    t0 = time.perf_counter()
+    t0 = time.process_time()
     try:
         em = _JOB["em"]
         paper = text_paper([glyph], em.size, _JOB["style"], _JOB["seed"], paper=_JOB.get("paper"))
@@ -96,8 +99,8 @@ def _outline_one(task: tuple) -> tuple:
         save_outline(Path(out), outline_from_image(paper.image(), em, _JOB["tol"]))
     except Exception as err:       # reported at the end with the character; the others go on
         _JOB.pop("paper", None)
-        return char, time.perf_counter() - t0, f"{type(err).__name__}: {err}"
-    return char, time.perf_counter() - t0, None
+        return char, time.process_time() - t0, f"{type(err).__name__}: {err}"
+    return char, time.process_time() - t0, None
 
 
 def _load_glyphs(glyphs, source: str, result: FontResult) -> dict:
@@ -120,8 +123,9 @@ def _load_glyphs(glyphs, source: str, result: FontResult) -> dict:
 def _run(tasks: list, jobs: int, init: tuple, executor: str, result: FontResult, progress: bool) -> None:
     bar = Progress(len(tasks)) if progress and tasks else None
     try:
-        for char, _secs, err in parallel_map(_outline_one, tasks, jobs, _init_worker, init, executor):
+        for char, cpu, err in parallel_map(_outline_one, tasks, jobs, _init_worker, init, executor):
             (result.made.append(char) if err is None else result.failed.append((char, err)))
+            result.cpu_seconds += cpu
             if bar is not None:
                 bar.update(err is None)
     except KeyboardInterrupt:
@@ -160,7 +164,9 @@ def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", styl
     done = set(result.made) | set(result.cached)
     outlines = {c: load_outline(files[c]) for c in loaded if c in done}
     if outlines and not result.interrupted:
+        t1 = time.perf_counter()
         write_font(outlines, path, info)
+        result.write_seconds = time.perf_counter() - t1
         result.points = [point_count(outlines[c]) for c in outlines]
     result.seconds = time.perf_counter() - t0
     return result
