@@ -236,3 +236,30 @@ def test_chromium_sets_the_woff2_as_freetype_does(fonts):
     shot = ink_coverage(chromium_line(fonts[".woff2"][0], CHARS, px))
     line = shot[MARGIN_PX:MARGIN_PX + px, MARGIN_PX:MARGIN_PX + len(CHARS) * px]
     assert iou(ink_mask(line), freetype_line(fonts[".woff2"][0], CHARS, px) >= 0.5) >= 0.97
+
+
+def _glyph_area(path, char):
+    from fontTools.pens.areaPen import AreaPen
+    from fontTools.ttLib import TTFont
+
+    with TTFont(path) as font:
+        glyphs = font.getGlyphSet()
+        pen = AreaPen(glyphs)
+        glyphs[font.getBestCmap()[ord(char)]].draw(pen)
+    return pen.value
+
+
+def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp_path):
+    """When skia-pathops gives up on a glyph, the font is still written, with that glyph's
+    contours as traced (apart, outer ones counter-clockwise for CFF): the same ink."""
+    import pathops
+
+    build_font("十", tmp_path / "a.otf")
+
+    def fail(*args, **kwargs):
+        raise pathops.PathOpsError("operation did not succeed")
+
+    monkeypatch.setattr(pathops, "simplify", fail)
+    build_font("十", tmp_path / "b.otf")
+    a, b = _glyph_area(tmp_path / "a.otf", "十"), _glyph_area(tmp_path / "b.otf", "十")
+    assert a > 0 and b == pytest.approx(a, rel=1e-3)

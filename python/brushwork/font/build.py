@@ -83,19 +83,33 @@ def _draw_contours(contours: list, pen) -> None:
         pen.closePath()
 
 
+def _simplified(contours: list):
+    """The contours through skia-pathops' simplify (overlaps removed, winding fixed), or, where
+    skia gives up on one (it can on near-degenerate curves), on the contours with their points
+    rounded to whole units, or else the contours as traced: the edges of one ink mask, apart by
+    construction and wound outer one way, holes the other."""
+    import pathops
+
+    for rounding in (None, 0):
+        path = pathops.Path()
+        _draw_contours(contours if rounding is None else [np.round(c, rounding) for c in contours],
+                       path.getPen())
+        try:
+            return pathops.simplify(path, fix_winding=True, keep_starting_points=True)
+        except pathops.PathOpsError:
+            continue
+    return path
+
+
 def clean_outline(contours: list):
     """The contours unioned by skia-pathops: a RecordingPen of non-overlapping contours wound
     counter-clockwise around ink (y up), clockwise around holes."""
-    import pathops
     from fontTools.pens.areaPen import AreaPen
     from fontTools.pens.recordingPen import RecordingPen
     from fontTools.pens.reverseContourPen import ReverseContourPen
 
-    path = pathops.Path()
-    _draw_contours(contours, path.getPen())
-    path = pathops.simplify(path, fix_winding=True, keep_starting_points=True)
     rec = RecordingPen()
-    path.draw(rec)
+    _simplified(contours).draw(rec)
     area = AreaPen()
     rec.replay(area)
     if area.value < 0:          # skia winds outer contours clockwise: turn them the PostScript way
