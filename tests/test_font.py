@@ -249,15 +249,19 @@ def _glyph_area(path, char):
     return pen.value
 
 
-def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp_path):
-    """When skia-pathops gives up on a glyph, the font is still written, with that glyph's
-    contours as traced (apart, outer ones counter-clockwise for CFF): the same ink."""
+@pytest.mark.parametrize("how", ["raises", "loses ink"])
+def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp_path, how):
+    """When skia-pathops gives up on a glyph or returns other ink, the font is still written,
+    with that glyph's contours as traced (apart, outer ones counter-clockwise for CFF): the same
+    ink."""
     import pathops
 
     build_font("十", tmp_path / "a.otf")
 
     def fail(*args, **kwargs):
-        raise pathops.PathOpsError("operation did not succeed")
+        if how == "raises":
+            raise pathops.PathOpsError("operation did not succeed")
+        return pathops.Path()
 
     monkeypatch.setattr(pathops, "simplify", fail)
     build_font("十", tmp_path / "b.otf")

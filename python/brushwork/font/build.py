@@ -17,6 +17,7 @@ from .outline import ASCENDER, DESCENDER, UPM
 
 FORMATS = (".otf", ".ttf", ".woff2", ".ufo")
 QUAD_ERR = 0.5            # font units: the farthest a glyf quadratic strays from its cubic
+SIMPLIFY_AREA_TOL = 0.002  # the most skia's union may change a glyph's ink area by, as a fraction of it
 NOTDEF_MARGIN = 0.1       # of the em: the .notdef box's inset
 # the blank glyphs every font carries: char -> (glyph name, advance in ems)
 SPACES = {" ": ("space", 0.25), "\u00a0": ("uni00A0", 0.25), "\u3000": ("uni3000", 1.0)}
@@ -83,22 +84,36 @@ def _draw_contours(contours: list, pen) -> None:
         pen.closePath()
 
 
+def _area(path) -> float:
+    """The signed area a pen-drawable path encloses (positive counter-clockwise, y up)."""
+    from fontTools.pens.areaPen import AreaPen
+
+    pen = AreaPen()
+    path.draw(pen)
+    return pen.value
+
+
 def _simplified(contours: list):
     """The contours through skia-pathops' simplify (overlaps removed, winding fixed), or, where
-    skia gives up on one (it can on near-degenerate curves), on the contours with their points
-    rounded to whole units, or else the contours as traced: the edges of one ink mask, apart by
-    construction and wound outer one way, holes the other."""
+    skia gives up on one or returns other ink (it can, on near-degenerate curves), on the
+    contours with their points rounded to whole units, or else the contours as traced: the edges
+    of one ink mask, apart by construction and wound outer one way, holes the other."""
     import pathops
 
+    traced = pathops.Path()
+    _draw_contours(contours, traced.getPen())
+    ink = abs(_area(traced))
     for rounding in (None, 0):
         path = pathops.Path()
         _draw_contours(contours if rounding is None else [np.round(c, rounding) for c in contours],
                        path.getPen())
         try:
-            return pathops.simplify(path, fix_winding=True, keep_starting_points=True)
+            path = pathops.simplify(path, fix_winding=True, keep_starting_points=True)
         except pathops.PathOpsError:
             continue
-    return path
+        if abs(abs(_area(path)) - ink) <= SIMPLIFY_AREA_TOL * max(ink, 1.0):
+            return path
+    return traced
 
 
 def clean_outline(contours: list):
