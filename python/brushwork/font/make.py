@@ -158,7 +158,8 @@ def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", styl
     folder.mkdir(parents=True, exist_ok=True)
     files = {c: _glyph_file(folder, c, g) for c, g in loaded.items()}
     todo = [c for c in loaded if load_outline(files[c]) is None]
-    result.cached = [c for c in loaded if c not in set(todo)]
+    making = set(todo)
+    result.cached = [c for c in loaded if c not in making]
     _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance), executor,
          result, progress)
     done = set(result.made) | set(result.cached)
