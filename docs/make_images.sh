@@ -4,10 +4,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bw="${BRUSHWORK:-.venv/bin/brushwork}"
+py="${PYTHON:-.venv/bin/python}"
 "$bw" render 永和九年 -o docs/yonghe.png
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
 "$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "${TMPDIR:-/tmp}/brushwork-sheet" \
   --sheet docs/sheet.png --no-progress
 # 3-D outlines: the meshes of $BRUSHWORK_MESHES (default the shared test meshes) in two styles
-"${PYTHON:-.venv/bin/python}" -m brushwork.outline3d.sheet --meshes "${BRUSHWORK_MESHES:-/work/shared/data/meshes}" \
+"$py" -m brushwork.outline3d.sheet --meshes "${BRUSHWORK_MESHES:-../shared/data/meshes}" \
   --styles baimiao,xieyi --size 400 -o docs/outlines.png
+# a line set in a brushwork font by headless Chromium (needs chromium and chromium-driver)
+fonts="${TMPDIR:-/tmp}/brushwork-font"
+mkdir -p "$fonts"
+"$bw" font --chars 永和九年岁在癸丑暮春 -o "$fonts/line.woff2" --no-progress
+"$py" -m brushwork.font.browser "$fonts/line.woff2" 永和九年岁在癸丑暮春 docs/font_line.png --px 96

@@ -214,9 +214,13 @@ class Progress:
 
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
-              progress: bool = True, variant: str | None = None, samples: int | None = None) -> BatchResult:
+              progress: bool = True, variant: str | None = None, samples: int | None = None,
+              executor: str = "local") -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
-    (whole: a file that does not decode is rendered again)."""
+    (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
+    from .raymap import check_executor
+
+    check_executor(executor)
     size, bits, seed, samples = check_size(size), check_bits(bits), check_seed(seed), check_samples(samples)
     Style.load(style)                                        # a bad style fails now, not in every worker
     jobs = int(jobs)
@@ -230,7 +234,7 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
-    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress)
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress, executor)
     return result
 
 
@@ -257,12 +261,13 @@ def _plan(chars: str, out: Path, result: BatchResult) -> list:
     return todo
 
 
-def _run_tasks(tasks: list, jobs: int, init: tuple, result: BatchResult, progress: bool) -> None:
+def _run_tasks(tasks: list, jobs: int, init: tuple, result: BatchResult, progress: bool,
+               executor: str = "local") -> None:
     """Render the tasks in `jobs` workers into result (written, failed, seconds, interrupted)."""
     bar = Progress(len(tasks)) if progress and tasks else None
     t0 = time.perf_counter()
     try:
-        for char, _secs, err in parallel_map(_render_one, tasks, jobs, _init_worker, init):
+        for char, _secs, err in parallel_map(_render_one, tasks, jobs, _init_worker, init, executor):
             if err is None:
                 result.written.append(char)
             else:
@@ -277,9 +282,15 @@ def _run_tasks(tasks: list, jobs: int, init: tuple, result: BatchResult, progres
             bar.close()
 
 
-def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple):
-    """fn over tasks in `jobs` worker processes (in this one when jobs is 1), results in the order
-    they finish. Workers are spawned, not forked: a forked child must not inherit a GL context."""
+def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple, executor: str = "local"):
+    """fn over tasks in `jobs` worker processes (in this one when jobs is 1), or as Ray tasks
+    (executor "ray"), results in the order they finish. Workers are spawned, not forked: a forked
+    child must not inherit a GL context."""
+    if executor == "ray":
+        from .raymap import ray_map
+
+        yield from ray_map(fn, tasks, jobs, initializer, initargs)
+        return
     if jobs == 1 or len(tasks) <= 1:
         initializer(*initargs)
         yield from map(fn, tasks)

@@ -2,11 +2,13 @@
 
     brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE]
     brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
+    brushwork font --chars TEXT | --charset FILE -o OUT.{otf,ttf,woff2,ufo} [--style S] [--jobs N] [--executor local|ray]
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
+    brushwork bench font [--count 60] [--jobs 2] [--executor local|ray] [--json FILE]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork bench texture [--chars TEXT] [--size 512] [--json FILE]
     brushwork outline MESH -o FILE [--size N] [--azimuth DEG] [--elevation DEG] [--style S] [--camera-json FILE] ...
@@ -235,6 +237,8 @@ def _batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
                                                    "beside a reference Kai font when one is installed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
+                                                       "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
     _look_args(p)
     _image_args(p)
 
@@ -261,7 +265,7 @@ def _batch(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress, samples=args.samples)
+                          progress=not args.no_progress, samples=args.samples, executor=args.executor)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
@@ -321,6 +325,32 @@ def _bench_batch(args: argparse.Namespace) -> int:
     return _report("batch", args, lambda: glyphs.run_batch_bench(args.source, args.count, args.size, args.jobs,
                                                                  args.style, samples=args.samples),
                    glyphs.batch_table)
+
+
+# font (brushwork.font: its options and handler live there)
+def _font_args(p: argparse.ArgumentParser) -> None:
+    from .font import cli
+
+    cli.add_arguments(p)
+
+
+def _font(args: argparse.Namespace) -> int:
+    from .font import cli
+
+    return cli.handle(args)
+
+
+def _bench_font_args(p: argparse.ArgumentParser) -> None:
+    from .bench import font
+
+    font.add_arguments(p)
+
+
+def _bench_font(args: argparse.Namespace) -> int:
+    from .bench import font
+
+    tols = [float(t) for t in args.tolerances.split(",") if t.strip()]
+    return _report("font", args, lambda: font.run(args.count, args.jobs, args.executor, args.style, tols), font.table)
 
 
 # demo (brushwork.demo is someone else's module: imported only when asked for)
@@ -447,6 +477,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "batch": ("characters per second of `brushwork batch`, and where the time goes", _bench_batch_args,
               _bench_batch),
     "precision": ("error against run time per frame, ours and peer solvers", _precision_args, _precision),
+    "font": ("points, size, build time and FreeType-vs-render fidelity of `brushwork font`", _bench_font_args,
+             _bench_font),
     "fuzz": ("glyph files, style files, SVG paths and command lines, valid and broken: failures per kind",
              _fuzz_args, _fuzz),
     "texture": ("dry-brush streaks at exits (xing vs kai), repeats of the texture, agreement across resolutions",
@@ -469,6 +501,7 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "render": ("write characters with the brush to one PNG", _render_text_args, _render_text),
     "batch": ("render many characters, one PNG each, in parallel; resumable", _batch_args, _batch),
+    "font": ("build an OTF, TTF, WOFF2 or UFO font of characters written by the brush; resumable", _font_args, _font),
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),
     "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",

@@ -1,0 +1,103 @@
+"""A line of text set in a web font by headless Chromium (through Selenium and chromedriver),
+and the same line rasterised by FreeType, for comparing the two.
+
+    python -m brushwork.font.browser FONT.woff2 TEXT OUT.png [--px 128]
+
+writes Chromium's screenshot of TEXT set in FONT, one em of `px` pixels per character."""
+from __future__ import annotations
+
+import base64
+import os
+import shutil
+import sys
+
+import numpy as np
+
+from .outline import Em
+
+CHROMIUM = ("chromium", "chromium-browser", "google-chrome")
+DRIVER = ("chromedriver",)
+MARGIN_PX = 16           # white around the line on the page and in the screenshot
+
+
+def find_chromium() -> tuple:
+    """(browser path, chromedriver path), or None for either that is not on PATH."""
+    browser = next((p for p in map(shutil.which, CHROMIUM) if p), None)
+    driver = next((p for p in map(shutil.which, DRIVER) if p), None)
+    return browser, driver
+
+
+def _page(font_path: str, text: str, px: int) -> str:
+    with open(font_path, "rb") as f:
+        data = base64.b64encode(f.read()).decode()
+    return ("<!doctype html><html><head><meta charset='utf-8'><style>"
+            f"@font-face{{font-family:BrushworkTest;src:url(data:font/woff2;base64,{data}) format('woff2')}}"
+            "html,body{margin:0;background:#fff}"
+            f"div{{font-family:BrushworkTest;font-size:{px}px;line-height:{px}px;color:#000;white-space:nowrap;"
+            f"position:absolute;left:{MARGIN_PX}px;top:{MARGIN_PX}px}}"
+            f"</style></head><body><div>{text}</div></body></html>")
+
+
+def chromium_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
+    """(px + 2 MARGIN_PX, len(text) px + 2 MARGIN_PX, 3) uint8 RGB: Chromium's screenshot of text
+    set in the font at font_path (a WOFF2), px pixels to the em, the line's box MARGIN_PX from the
+    top-left corner. RuntimeError when Chromium or its driver is missing."""
+    import cv2
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    browser, driver_path = find_chromium()
+    if not browser or not driver_path:
+        raise RuntimeError("headless Chromium needs chromium and chromedriver on PATH")
+    w, h = len(text) * px + 2 * MARGIN_PX, px + 2 * MARGIN_PX
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = browser
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                "--force-device-scale-factor=1", f"--window-size={max(w, 800)},{max(h, 600)}",
+                "--disable-dev-shm-usage"):
+        opts.add_argument(arg)
+    drv = webdriver.Chrome(service=Service(driver_path), options=opts)
+    try:
+        drv.get("data:text/html;charset=utf-8;base64," + base64.b64encode(
+            _page(os.fspath(font_path), text, px).encode()).decode())
+        drv.execute_script("return document.fonts.ready")
+        png = drv.get_screenshot_as_png()
+    finally:
+        drv.quit()
+    bgr = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
+    return np.ascontiguousarray(bgr[:h, :w, ::-1])
+
+
+def freetype_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
+    """(px, len(text) px) float coverage: text rasterised by FreeType, each character's em square
+    a px x px cell, side by side (the layout of one em advance per glyph), the baseline on the
+    whole pixel nearest the ascender's depth, as browsers place it."""
+    from .check import freetype_coverage
+
+    em = Em(size=px)
+    baseline = float(round(em.ascender * px / em.upm))
+    return np.concatenate([freetype_coverage(font_path, c, em, baseline) for c in text], axis=1)
+
+
+def main(argv: list | None = None) -> int:
+    import argparse
+
+    from ..files import write_image
+
+    p = argparse.ArgumentParser(prog="python -m brushwork.font.browser", description=__doc__.splitlines()[0])
+    p.add_argument("font")
+    p.add_argument("text")
+    p.add_argument("output")
+    p.add_argument("--px", type=int, default=128)
+    args = p.parse_args(argv)
+    try:
+        rgb = chromium_line(args.font, args.text, args.px)
+        print(f"wrote {write_image(args.output, np.ascontiguousarray(rgb[..., ::-1]))}")
+    except (OSError, ValueError, RuntimeError) as err:
+        print(f"brushwork: error: {' '.join(str(err).split())}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

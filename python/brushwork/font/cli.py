@@ -1,0 +1,63 @@
+"""`brushwork font`: the command line of build_font."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from .build import FORMATS, FontInfo
+from .outline import FIT_TOL_PX, TRACE_SIZE
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--chars", metavar="TEXT", help="the characters of the font")
+    what.add_argument("--charset", metavar="FILE", help="a UTF-8 file of characters (whitespace ignored), "
+                                                        "or a built-in set: gb2312, gb2312-1, gb2312-2")
+    p.add_argument("-o", "--output", metavar="OUT", required=True,
+                   help=f"the font to write, in the format its suffix names: {' '.join(FORMATS)}")
+    p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--source", default="default", help="where the strokes come from, as for `brushwork render`")
+    p.add_argument("--seed", type=int, default=0, help="seed of the style's variation (default 0)")
+    p.add_argument("--family", default=FontInfo.family, help=f"family name (default {FontInfo.family})")
+    p.add_argument("--version", dest="font_version", default=FontInfo.version, metavar="X.Y",
+                   help=f"font version (default {FontInfo.version})")
+    p.add_argument("--size", type=int, default=TRACE_SIZE,
+                   help=f"px of the render each outline is traced from (default {TRACE_SIZE})")
+    p.add_argument("--tolerance", type=float, default=FIT_TOL_PX,
+                   help=f"px of that render the curves may stray from the ink's edge (default {FIT_TOL_PX}); "
+                        "larger: fewer points, a smaller font")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                   help=f"worker processes (default: the CPU count, {os.cpu_count()})")
+    p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
+                                                       "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from ..batch import parse_charset, read_charset
+    from .make import build_font, summary
+
+    chars = parse_charset(args.chars) if args.chars is not None else read_charset(args.charset)
+    if not chars:
+        raise ValueError("no characters to build a font of")
+    import signal
+
+    def _stop(signum, frame):
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGTERM, _stop)
+    info = FontInfo(family=args.family, version=args.font_version)
+    res = build_font(chars, args.output, source=args.source, style=args.style, seed=args.seed, size=args.size,
+                     tolerance=args.tolerance, info=info, jobs=args.jobs, executor=args.executor,
+                     progress=not args.no_progress)
+    print(summary(res))
+    if res.interrupted:
+        return 130
+    if not res.points:
+        print("brushwork: error: no glyph could be made: no font written", file=sys.stderr)
+        return 2
+    if res.failed:
+        print(f"brushwork: error: {len(res.failed)} character(s) left out of the font (listed above)", file=sys.stderr)
+        return 2
+    return 0

@@ -1,0 +1,139 @@
+"""Cubic Bezier curves through a closed polyline within a tolerance: the contour is cut at its
+corners, and each piece between two corners is fitted by least squares with its end tangents
+fixed, split where it strays most and fitted again until every point lies within the tolerance
+(the scheme of P. J. Schneider, "An algorithm for automatically fitting digitized curves",
+Graphics Gems, 1990). A curve is a (4, 2) array of control points P0, P1, P2, P3."""
+from __future__ import annotations
+
+import numpy as np
+
+CORNER_DEG = 55.0      # a turn sharper than this over CORNER_REACH is a corner
+CORNER_REACH = 1.5     # contour units each side of a point over which its turn is measured
+NEWTON_STEPS = 4       # reparametrisations tried before a piece is split
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    return v / np.maximum(n, 1e-12)
+
+
+def _bezier(c: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """Points (n, 2) of the cubic c (4, 2) at parameters u (n,)."""
+    s = 1.0 - u
+    return np.outer(s * s * s, c[0]) + np.outer(3 * s * s * u, c[1]) + np.outer(3 * s * u * u, c[2]) \
+        + np.outer(u * u * u, c[3])
+
+
+def _chord_params(p: np.ndarray) -> np.ndarray:
+    """Chord-length parameters in [0, 1] of the points p (n, 2)."""
+    d = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    return d / d[-1] if d[-1] > 0 else np.linspace(0.0, 1.0, len(p))
+
+
+def _least_squares(p: np.ndarray, u: np.ndarray, t0: np.ndarray, t1: np.ndarray) -> np.ndarray:
+    """The cubic from p[0] to p[-1] leaving along t0 and arriving against t1 (both unit, t1
+    pointing back into the curve) whose handle lengths a0, a1 fit p at u best in least squares:
+    the 2 x 2 normal equations of Schneider's fit, solved by Cramer's rule."""
+    s = 1.0 - u
+    b1, b2 = 3 * s * s * u, 3 * s * u * u
+    rest = p - np.outer(s * s * s + b1, p[0]) - np.outer(b2 + u * u * u, p[-1])
+    m00, m11 = float(b1 @ b1), float(b2 @ b2)
+    m01 = float(b1 @ b2) * float(t0 @ t1)
+    r0, r1 = float(b1 @ (rest @ t0)), float(b2 @ (rest @ t1))
+    chord = float(np.hypot(*(p[-1] - p[0])))
+    det = m00 * m11 - m01 * m01
+    a0, a1 = ((r0 * m11 - r1 * m01) / det, (m00 * r1 - m01 * r0) / det) if abs(det) > 1e-12 else (0.0, 0.0)
+    # a handle that is negative or vanishing bends the curve back on itself: a third of the chord instead
+    if a0 < 1e-6 * chord or a1 < 1e-6 * chord:
+        a0 = a1 = chord / 3.0
+    return np.array([p[0], p[0] + a0 * t0, p[-1] + a1 * t1, p[-1]])
+
+
+def _newton(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """One Newton-Raphson step on each u towards the parameter of the curve point nearest p."""
+    s = 1.0 - u
+    d1 = np.stack([s * s, 2 * s * u, u * u], axis=1) @ (3 * np.diff(c, axis=0))
+    d2 = np.stack([s, u], axis=1) @ (6 * np.diff(c, n=2, axis=0))
+    e = _bezier(c, u) - p
+    num = np.sum(e * d1, axis=1)
+    den = np.sum(d1 * d1, axis=1) + np.sum(e * d2, axis=1)
+    step = np.where(np.abs(den) > 1e-12, num / np.where(den == 0, 1, den), 0.0)
+    out = np.clip(u - step, 0.0, 1.0)
+    out[0], out[-1] = 0.0, 1.0
+    return np.maximum.accumulate(out)
+
+
+def _worst(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> tuple:
+    """(largest distance from p to the curve at its parameter, index of that point)."""
+    d = np.linalg.norm(_bezier(c, u) - p, axis=1)
+    i = int(np.argmax(d))
+    return float(d[i]), i
+
+
+def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float) -> list:
+    """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
+    every point within tol of the curve at its parameter; t0 the unit tangent at the start, t1 at
+    the end pointing back into the curve."""
+    if len(p) <= 2:
+        d = float(np.linalg.norm(p[-1] - p[0])) / 3.0
+        return [np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]])]
+    u = _chord_params(p)
+    c = _least_squares(p, u, t0, t1)
+    err, i = _worst(c, p, u)
+    if err <= tol:
+        return [c]
+    for _ in range(NEWTON_STEPS if err <= 4 * tol else 0):
+        u = _newton(c, p, u)
+        c = _least_squares(p, u, t0, t1)
+        err, i = _worst(c, p, u)
+        if err <= tol:
+            return [c]
+    i = min(max(i, 1), len(p) - 2)
+    mid = _unit(p[i - 1] - p[i + 1])          # the tangent at the split, pointing back along p
+    return fit_open(p[:i + 1], t0, mid, tol) + fit_open(p[i:], -mid, t1, tol)
+
+
+def _turns(p: np.ndarray, reach: int) -> np.ndarray:
+    """(n,) the angle in degrees the closed polyline p turns through over `reach` points each side."""
+    back = _unit(p - np.roll(p, reach, axis=0))
+    ahead = _unit(np.roll(p, -reach, axis=0) - p)
+    return np.degrees(np.arccos(np.clip(np.sum(back * ahead, axis=1), -1.0, 1.0)))
+
+
+def corners(p: np.ndarray, spacing: float) -> np.ndarray:
+    """Indices of the corners of the closed polyline p (n, 2) whose points lie about `spacing`
+    apart: local maxima of the turn that exceed CORNER_DEG, at least `reach` points apart."""
+    reach = max(2, int(round(CORNER_REACH / max(spacing, 1e-9))))
+    if len(p) < 4 * reach:
+        return np.zeros(0, dtype=int)
+    turn = _turns(p, reach)
+    peak = np.ones(len(p), dtype=bool)
+    for k in range(1, reach + 1):
+        peak &= (turn >= np.roll(turn, k)) & (turn > np.roll(turn, -k))
+    return np.flatnonzero(peak & (turn > CORNER_DEG))
+
+
+def _end_tangent(p: np.ndarray, reach: int) -> np.ndarray:
+    """The unit tangent at p[0] leaving along p, from the chord to a point `reach` ahead."""
+    return _unit(p[min(reach, len(p) - 1)] - p[0])
+
+
+def fit_closed(p: np.ndarray, tol: float, spacing: float) -> list:
+    """Cubics (each (4, 2)) around the closed polyline p (n, 2) (points about `spacing` apart,
+    the last not repeating the first), starting and ending at one point, each piece between
+    corners fitted within tol; sharp at the corners, smooth elsewhere."""
+    reach = max(2, int(round(CORNER_REACH / max(spacing, 1e-9))))
+    cut = corners(p, spacing)
+    if len(cut) == 0:
+        # no corner: start anywhere and make the start as smooth as the rest
+        t = _unit(p[min(reach, len(p) - 1)] - p[-min(reach, len(p) - 1)])
+        ring = np.concatenate([p, p[:1]])
+        return fit_open(ring, t, -t, tol)
+    ring = np.roll(p, -cut[0], axis=0)
+    ends = list(cut - cut[0]) + [len(p)]
+    ring = np.concatenate([ring, ring[:1]])
+    out = []
+    for a, b in zip(ends[:-1], ends[1:]):
+        piece = ring[a:b + 1]
+        out += fit_open(piece, _end_tangent(piece, reach), _end_tangent(piece[::-1], reach), tol)
+    return out

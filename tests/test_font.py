@@ -1,0 +1,269 @@
+"""`brushwork font`: fonts built from the brush's ink, read back by the clients that use fonts
+(OpenType Sanitizer, fontTools, HarfBuzz, FreeType, Chromium), their command line and cache."""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+pytest.importorskip("fontTools")
+pytest.importorskip("pathops")
+
+from brushwork.font import Em, FontInfo, build_font  # noqa: E402
+from brushwork.font.make import CACHE_DIR  # noqa: E402
+
+CHARS = "永十人大"           # bundled glyphs: no KanjiVG or median lookups needed
+SIMPLE = "十人大"
+
+
+@pytest.fixture(scope="module")
+def fonts(tmp_path_factory):
+    """The same four characters as OTF, TTF, WOFF2 and UFO (the outlines made once, then cached)."""
+    folder = tmp_path_factory.mktemp("fonts")
+    out = {}
+    for ext in (".otf", ".ttf", ".woff2", ".ufo"):
+        out[ext] = (folder / f"b{ext}", build_font(CHARS, folder / f"b{ext}", jobs=1))
+    return out
+
+
+@pytest.fixture(scope="module")
+def renders():
+    """The brush's own 512 px render of each character, as `brushwork render CHAR --size 512` draws it."""
+    from brushwork.batch import text_paper
+    from brushwork.glyphs import load_source
+
+    glyphs = load_source("default", CHARS)
+    return {c: text_paper([glyphs[c]], 512).image() for c in CHARS}
+
+
+def test_fonts_are_made_once_then_cached(fonts):
+    first = fonts[".otf"][1]
+    assert sorted(first.made) == sorted(CHARS) and not first.cached and not first.failed
+    for ext in (".ttf", ".woff2", ".ufo"):
+        res = fonts[ext][1]
+        assert not res.made and sorted(res.cached) == sorted(CHARS)
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf", ".woff2"])
+def test_the_sanitizer_accepts_the_font(fonts, ext):
+    pytest.importorskip("ots")
+    from brushwork.font.check import sanitize
+
+    assert sanitize(fonts[ext][0]) is None
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf", ".woff2"])
+def test_font_tables_read_back(fonts, ext):
+    from fontTools.ttLib import TTFont
+
+    with TTFont(fonts[ext][0]) as font:
+        _check_tables(font, ext)
+
+
+def _check_tables(font, ext):
+    for tag in ("cmap", "head", "hhea", "hmtx", "vhea", "vmtx", "OS/2", "name", "post", "maxp"):
+        assert tag in font, tag
+    assert ("glyf" if ext == ".ttf" else "CFF ") in font
+    assert font.getGlyphOrder()[0] == ".notdef"
+    assert set(font.getBestCmap()) == {ord(c) for c in CHARS + " \u00a0\u3000"}
+    os2, upm = font["OS/2"], font["head"].unitsPerEm
+    assert upm in (1000, 1024)
+    assert os2.sTypoAscender - os2.sTypoDescender == upm
+    assert os2.sTypoAscender == round(0.88 * upm) and os2.fsSelection & 0x80
+    assert os2.ulCodePageRange1 & (1 << 18)                 # Chinese Simplified
+    assert 59 in os2.getUnicodeRanges()                      # CJK Unified Ideographs
+    names = {n.nameID: n.toUnicode() for n in font["name"].names}
+    assert names[1] == "Brushwork" and names[5] == "Version 1.0" and names[13]
+    for c in CHARS + "\u3000":
+        name = font.getBestCmap()[ord(c)]
+        assert font["hmtx"][name][0] == upm and font["vmtx"][name][0] == upm
+    assert font["hmtx"]["space"][0] == upm // 4
+
+
+def test_ufo_reads_back(fonts):
+    ufo_lib = pytest.importorskip("ufoLib2")
+    ufo = ufo_lib.Font.open(fonts[".ufo"][0])
+    assert ufo.info.unitsPerEm == 1000 and ufo.info.ascender - ufo.info.descender == 1000
+    mapped = {u for g in ufo for u in g.unicodes}
+    assert mapped == {ord(c) for c in CHARS + " \u00a0\u3000"}
+    assert all(len(ufo[f"uni{ord(c):04X}"].contours) > 0 for c in CHARS)
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf"])
+def test_every_code_point_shapes_to_its_own_glyph(fonts, ext):
+    pytest.importorskip("uharfbuzz")
+    from brushwork.font.check import shaped_glyphs
+
+    assert shaped_glyphs(fonts[ext][0], CHARS) == [f"uni{ord(c):04X}" for c in CHARS]
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf"])
+def test_freetype_draws_what_the_brush_drew(fonts, renders, ext):
+    """At the default tolerance the outline keeps within 2 font units of the ink's edge (90th
+    percentile) and FreeType's ink overlaps the brush's closely."""
+    from brushwork.font.check import glyph_fidelity
+
+    for c in CHARS:
+        fid = glyph_fidelity(fonts[ext][0], c, renders[c], Em())
+        assert fid["stray"] <= 2.0, (c, fid)
+        assert fid["iou"] >= 0.96, (c, fid)
+
+
+def test_a_tight_tolerance_reproduces_the_render(tmp_path, renders):
+    """Fitted within 0.2 px, FreeType's 512 px raster of each glyph matches the brush's 512 px
+    render to IoU 0.99."""
+    from brushwork.font.check import glyph_fidelity
+
+    path = tmp_path / "tight.otf"
+    build_font(SIMPLE, path, tolerance=0.2)
+    for c in SIMPLE:
+        assert glyph_fidelity(path, c, renders[c], Em())["iou"] >= 0.99, c
+
+
+def test_outline_points_lie_on_the_em_square_the_render_spans(fonts, renders):
+    """The ink's box in the render, mapped to font units, is the glyph's box in the font."""
+    from fontTools.ttLib import TTFont
+
+    from brushwork.font.trace import ink_coverage, ink_mask
+
+    from fontTools.pens.boundsPen import BoundsPen
+
+    boxes = {}
+    with TTFont(fonts[".ttf"][0]) as font:
+        glyphs = font.getGlyphSet()
+        for c in CHARS:
+            pen = BoundsPen(glyphs)
+            glyphs[f"uni{ord(c):04X}"].draw(pen)
+            boxes[c] = pen.bounds
+    em = Em()
+    for c in CHARS:
+        ys, xs = np.nonzero(ink_mask(ink_coverage(renders[c])))
+        lo = em.to_font(np.array([xs.min(), ys.max() + 1.0]))
+        hi = em.to_font(np.array([xs.max() + 1.0, ys.min()]))
+        assert np.allclose(boxes[c], [*lo, *hi], atol=2.0), (c, boxes[c], lo, hi)
+
+
+def _cli(*args, cwd=None):
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in sys.path if p))
+    return subprocess.run([sys.executable, "-m", "brushwork", "font", *args], capture_output=True, text=True,
+                          env=env, cwd=cwd, timeout=300)
+
+
+def test_cli_lists_missing_characters_and_builds_the_rest(tmp_path):
+    out = tmp_path / "part.otf"
+    res = _cli("--chars", "十\U0002A6A5", "-o", str(out), "--jobs", "1", "--no-progress")
+    assert res.returncode == 2
+    assert out.is_file()
+    assert "missing from the font: \U0002A6A5" in res.stdout
+    assert len(res.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("args, why", [
+    (["--chars", "十", "-o", "{d}/f.png"], "cannot write a .png font"),
+    (["--chars", "十", "-o", "{d}/no/f.otf"], "no such folder"),
+    (["--chars", "十", "-o", "{d}/f.otf", "--version", "one"], "--version"),
+    (["--chars", "十", "-o", "{d}/f.otf", "--executor", "mpi"], "--executor"),
+    (["--chars", "十", "-o", "{d}/f.otf", "--tolerance", "0"], "--tolerance"),
+    (["--charset", "{d}/none.txt", "-o", "{d}/f.otf"], "none.txt"),
+])
+def test_cli_bad_input_is_one_line_and_no_file(tmp_path, args, why):
+    res = _cli(*[a.format(d=tmp_path) for a in args])
+    assert res.returncode == 2
+    assert len(res.stderr.strip().splitlines()) == 1 and why in res.stderr
+    assert not list(tmp_path.glob("f.*"))
+
+
+def test_a_rebuild_makes_only_glyphs_missing_from_the_cache(tmp_path):
+    first = build_font("十人", tmp_path / "a.otf")
+    cached = sorted((tmp_path / CACHE_DIR).rglob("*.json"))
+    assert len(cached) == 2 and sorted(first.made) == sorted("十人")
+    cached[0].unlink()
+    again = build_font("十人", tmp_path / "a.otf")
+    assert len(again.made) == 1 and len(again.cached) == 1
+
+
+def test_no_font_is_written_when_no_glyph_can_be_made(tmp_path):
+    res = build_font("\U0002A6A5", tmp_path / "none.otf")
+    assert res.failed and not res.points
+    assert not (tmp_path / "none.otf").exists()
+
+
+def test_font_info_is_checked():
+    with pytest.raises(ValueError):
+        FontInfo(version="1.0.0").check()
+    with pytest.raises(ValueError):
+        FontInfo(family="").check()
+
+
+def test_ray_executor_gives_the_local_results(tmp_path):
+    """One small Ray run on a local cluster: the font's outlines and the batch's PNGs are the
+    same bytes as a local run's."""
+    ray = pytest.importorskip("ray", reason="Ray is an optional extra (brushwork[ray])")
+    from brushwork.batch import run_batch
+
+    chars = "十人"
+    (tmp_path / "ray").mkdir()
+    try:
+        build_font(chars, tmp_path / "ray" / "f.otf", jobs=2, executor="ray")
+        run_batch(chars, tmp_path / "ray_png", jobs=2, size=128, executor="ray", progress=False)
+    finally:
+        ray.shutdown()
+    (tmp_path / "local").mkdir()
+    build_font(chars, tmp_path / "local" / "f.otf", jobs=1)
+    run_batch(chars, tmp_path / "local_png", jobs=1, size=128, progress=False)
+    for a in sorted((tmp_path / "ray" / CACHE_DIR).rglob("*.json")):
+        b = tmp_path / "local" / a.relative_to(tmp_path / "ray")
+        assert json.loads(a.read_text()) == json.loads(b.read_text())
+    for c in chars:
+        name = f"U+{ord(c):04X}.png"
+        assert (tmp_path / "ray_png" / name).read_bytes() == (tmp_path / "local_png" / name).read_bytes()
+
+
+def test_chromium_sets_the_woff2_as_freetype_does(fonts):
+    """Headless Chromium renders a line in the WOFF2 through @font-face; its screenshot matches
+    FreeType's rendering of the same line."""
+    pytest.importorskip("selenium")
+    from brushwork.font.browser import MARGIN_PX, chromium_line, find_chromium, freetype_line
+    from brushwork.font.check import iou
+    from brushwork.font.trace import ink_coverage, ink_mask
+
+    browser, driver = find_chromium()
+    if not browser or not driver:
+        pytest.skip("no chromium and chromedriver on PATH (Debian: apt-get install chromium chromium-driver)")
+    px = 128
+    shot = ink_coverage(chromium_line(fonts[".woff2"][0], CHARS, px))
+    line = shot[MARGIN_PX:MARGIN_PX + px, MARGIN_PX:MARGIN_PX + len(CHARS) * px]
+    assert iou(ink_mask(line), freetype_line(fonts[".woff2"][0], CHARS, px) >= 0.5) >= 0.97
+
+
+def _glyph_area(path, char):
+    from fontTools.pens.areaPen import AreaPen
+    from fontTools.ttLib import TTFont
+
+    with TTFont(path) as font:
+        glyphs = font.getGlyphSet()
+        pen = AreaPen(glyphs)
+        glyphs[font.getBestCmap()[ord(char)]].draw(pen)
+    return pen.value
+
+
+@pytest.mark.parametrize("how", ["raises", "loses ink"])
+def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp_path, how):
+    """When skia-pathops gives up on a glyph or returns other ink, the font is still written,
+    with that glyph's contours as traced (apart, outer ones counter-clockwise for CFF): the same
+    ink."""
+    import pathops
+
+    build_font("十", tmp_path / "a.otf")
+
+    def fail(*args, **kwargs):
+        if how == "raises":
+            raise pathops.PathOpsError("operation did not succeed")
+        return pathops.Path()
+
+    monkeypatch.setattr(pathops, "simplify", fail)
+    build_font("十", tmp_path / "b.otf")
+    a, b = _glyph_area(tmp_path / "a.otf", "十"), _glyph_area(tmp_path / "b.otf", "十")
+    assert a > 0 and b == pytest.approx(a, rel=1e-3)
