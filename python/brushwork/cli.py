@@ -10,6 +10,9 @@
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
     brushwork bench texture [--chars TEXT] [--size 512] [--json FILE]
     brushwork demo [-o FILE]
+    brushwork paint [--port P] [--host H --token T] [--size W H] [--preset P] [--log-dir DIR]
+    brushwork replay LOG -o FILE [--size N]
+    brushwork bench paint [--samples N] [--json FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
 name to (help, add_arguments, handler); a handler takes the parsed arguments and returns the exit
@@ -401,6 +404,16 @@ def _texture(args: argparse.Namespace) -> int:
                    texture.table)
 
 
+# paint, replay, bench paint: brushwork.paint.commands, imported when run (aiohttp is an extra)
+def _paint(name: str) -> Callable:
+    def call(arg):
+        from .paint import commands
+
+        return getattr(commands, name)(arg)
+
+    return call
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -416,6 +429,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
              _fuzz_args, _fuzz),
     "texture": ("dry-brush streaks at exits (xing vs kai), repeats of the texture, agreement across resolutions",
                 _texture_args, _texture),
+    "paint": ("pen sample to ink through `brushwork paint`'s WebSocket: p50, p95 ms; simulated fps",
+              _paint("bench_args"), _paint("bench")),
 }
 
 
@@ -437,6 +452,8 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "params": ("print every brush parameter (or, with --style, style field) with its unit, range and value",
                _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
+    "paint": ("paint with a pen (or mouse) in the browser: a local web app", _paint("paint_args"), _paint("paint")),
+    "replay": ("render the motion log of a painting to an image", _paint("replay_args"), _paint("replay")),
 }
 
 
