@@ -40,7 +40,7 @@ async def _answer(ws, seq: int) -> dict:
 async def _measure(n: int, progress) -> dict:
     from aiohttp.test_utils import TestClient, TestServer
 
-    from .server import make_app
+    from .server import PAINTER, make_app
 
     app = make_app()
     async with TestClient(TestServer(app, host="127.0.0.1")) as client:
@@ -57,7 +57,7 @@ async def _measure(n: int, progress) -> dict:
         await ws.send_str(json.dumps({"type": "up", "seq": n}))
         await _answer(ws, n)
         await ws.close()
-    session = app["painter"].session
+    session = app[PAINTER].session
     lat_ms = np.array(lat) * 1e3
     return {"tufts": TUFTS_NOTE, "samples": n, "inked_samples": inked, "size_px": list(session.size_px),
             "preset": session.settings["preset"], "scene": session.settings["scene"],

@@ -103,8 +103,8 @@ def parse_message(text: str) -> dict:
     """A client's text message, checked: {"type", "seq", ...} (ValueError naming the problem)."""
     try:
         msg = json.loads(text)
-    except ValueError:
-        raise ValueError("not JSON") from None
+    except (ValueError, RecursionError):      # (RecursionError: nested too deeply)
+        raise ValueError("not JSON, or nested too deeply") from None
     if not isinstance(msg, dict) or not isinstance(msg.get("type"), str):
         raise ValueError("expected an object with a string `type`")
     seq = msg.get("seq")
@@ -235,11 +235,14 @@ class Painter:
                 "presets": BrushModel.presets(), "flags": list(SCENE_FLAGS), "max_samples": MAX_SAMPLES}
 
 
+PAINTER = web.AppKey("painter", Painter)
+
+
 async def _ws(request: web.Request) -> web.WebSocketResponse:
     origin = request.headers.get("Origin")
     if origin is not None and origin.split("://", 1)[-1] != request.host:
         raise web.HTTPForbidden(text="cross-origin WebSocket refused")
-    painter: Painter = request.app["painter"]
+    painter: Painter = request.app[PAINTER]
     ws = web.WebSocketResponse(max_msg_size=MAX_FRAME, heartbeat=30.0)
     await ws.prepare(request)
     painter.sockets.add(ws)
@@ -286,7 +289,7 @@ async def _static(request: web.Request) -> web.Response:
 
 async def _image(request: web.Request) -> web.Response:
     """The paper now, or (?size=N) re-rendered from the log with its longer side N px."""
-    session: Session = request.app["painter"].session
+    session: Session = request.app[PAINTER].session
     size = request.query.get("size")
     if size is None:
         return web.Response(body=png_bytes(session.image()), content_type="image/png")
@@ -301,7 +304,7 @@ async def _image(request: web.Request) -> web.Response:
 
 
 async def _log(request: web.Request) -> web.Response:
-    return web.json_response(request.app["painter"].session.log(),
+    return web.json_response(request.app[PAINTER].session.log(),
                              headers={"Content-Disposition": 'attachment; filename="paint-log.json"'})
 
 
@@ -322,7 +325,7 @@ def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
     session = Session({"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
                        "preset": preset, "scene": {"depletion": True}})
     app = web.Application(middlewares=[_token_check(token)], client_max_size=MAX_FRAME)
-    app["painter"] = Painter(session, log_path)
+    app[PAINTER] = Painter(session, log_path)
     app.router.add_get("/", _static)
     app.router.add_get("/static/{name}", _static)
     app.router.add_get("/image.png", _image)
@@ -330,11 +333,11 @@ def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
     app.router.add_get("/ws", _ws)
 
     async def worker(app: web.Application):
-        task = asyncio.ensure_future(app["painter"].run())
+        task = asyncio.ensure_future(app[PAINTER].run())
         yield
         task.cancel()
-        if app["painter"].log_path:
-            app["painter"].write_log()
+        if app[PAINTER].log_path:
+            app[PAINTER].write_log()
 
     app.cleanup_ctx.append(worker)
     return app

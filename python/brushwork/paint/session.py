@@ -148,12 +148,15 @@ class Session:
     # --- pen samples to poses
     def sample_pose(self, x_px: float, y_px: float, pressure: float, tilt: float, azimuth: float,
                     twist: float) -> list:
-        """The pose event of a pen sample: (x_px, y_px) on the page's canvas (y down), pressure
-        0..1 (0: the tip just touches; the root PRESS_MAX L lower at 1), the handle `tilt` deg
+        """The pose event of a pen sample: (x_px, y_px) on the page's canvas (y down) where the tip
+        touches, pressure 0..1 (0: the tip just touches; the root PRESS_MAX L lower at 1), the handle `tilt` deg
         from the normal leaning toward `azimuth` (deg, paper's frame, counter-clockwise from +x)."""
-        x = x_px / self.ppm
-        y = self.settings["height_mm"] - y_px / self.ppm
         t = min(max(tilt, 0.0), TILT_MAX)
+        # the root sits up the handle from the pen's point, so the straight tuft's tip touches
+        # the paper under the pen: L sin(tilt) toward the azimuth
+        reach, a = self.model.tuft_length * math.sin(math.radians(t)), math.radians(azimuth)
+        x = x_px / self.ppm + reach * math.cos(a)
+        y = self.settings["height_mm"] - y_px / self.ppm + reach * math.sin(a)
         z = root_height(self.model, t, PRESS_MAX * min(max(pressure, 0.0), 1.0))
         return ["pose", x, y, z, t, azimuth % 360.0, twist % 360.0]
 
@@ -213,8 +216,10 @@ class Session:
         x, y, z, tilt, az, tw = self.last
         z_air = root_height(self.model, tilt, -HOVER)
         for k in range(1, LIFT_FRAMES + 1):
-            if self._frame((x, y, z + (z_air - z) * k / LIFT_FRAMES, tilt, az, tw)) is None:
+            r = self._frame((x, y, z + (z_air - z) * k / LIFT_FRAMES, tilt, az, tw))
+            if r is None:
                 break
+            self.stroke_rect = unite(self.stroke_rect, r)
         self.paper.end_stroke()
         rect = self.stroke_rect
         if rect is not None:
