@@ -25,7 +25,7 @@ fi
 if [ ! -x .venv/bin/python ] || ! .venv/bin/python -m pip --version >/dev/null 2>&1; then
   "$PYTHON" -m venv --clear .venv
 fi
-.venv/bin/python -m pip install -q ".[test,kanjivg]"
+.venv/bin/python -m pip install -q ".[test,kanjivg,paint]"
 if [ "${BRUSHWORK_SKIP_DEMO:-0}" != 1 ]; then
   .venv/bin/python -m brushwork render 永和九年 -o yonghe.png
 fi

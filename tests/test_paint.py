@@ -274,3 +274,106 @@ def test_command_line_errors_are_one_line(tmp_path, capsys, argv, says):
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1 and err.startswith("brushwork: error:") and says in err, err
     assert not (tmp_path / "o.png").exists() and not (tmp_path / "o.xyz").exists()
+
+
+# --- the page in headless Chromium
+
+STROKE_JS = """
+const [pts, done] = [arguments[0], arguments[arguments.length - 1]];
+const c = document.getElementById("paper"), r = c.getBoundingClientRect();
+const ev = (type, p) => new PointerEvent(type, {bubbles: true, cancelable: true, pointerId: 7,
+  pointerType: "pen", isPrimary: true, button: type === "pointermove" ? -1 : 0,
+  buttons: type === "pointerup" ? 0 : 1, clientX: r.left + p[0] * r.width / c.width,
+  clientY: r.top + p[1] * r.height / c.height, pressure: p[2], tiltX: p[3], tiltY: p[4], twist: p[5]});
+c.dispatchEvent(ev("pointerdown", pts[0]));
+for (const p of pts.slice(1)) c.dispatchEvent(ev("pointermove", p));
+c.dispatchEvent(ev("pointerup", pts[pts.length - 1]));
+const wait = () => window.paint.drawnSeq >= window.paint.seq ? done(window.paint.seq) : setTimeout(wait, 20);
+wait();
+"""
+WAIT_JS = """
+const done = arguments[arguments.length - 1];
+const wait = () => window.paint.drawnSeq >= window.paint.seq ? done(window.paint.seq) : setTimeout(wait, 20);
+wait();
+"""
+
+
+@pytest.fixture
+def page(tmp_path):
+    """(driver, url, log folder): `brushwork paint` in a process of its own, its page in Chromium."""
+    webdriver = pytest.importorskip("selenium.webdriver", reason="the page test needs selenium (the paint extra)")
+    for tool in ("chromium", "chromedriver"):
+        if shutil.which(tool) is None:
+            pytest.skip(f"the page test needs {tool} (Debian: apt-get install chromium chromium-driver)")
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.Popen([sys.executable, "-m", "brushwork", "paint", "--port", "0", "--size", "480", "320",
+                             "--log-dir", str(tmp_path)], env=env, stdout=subprocess.PIPE, text=True)
+    url = proc.stdout.readline().split()[2]
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = shutil.which("chromium")
+    for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--window-size=1100,620"):
+        opts.add_argument(a)
+    driver = webdriver.Chrome(service=webdriver.ChromeService(executable_path=shutil.which("chromedriver")),
+                              options=opts)
+    driver.set_script_timeout(60)
+    try:
+        driver.get(url)
+        driver.execute_async_script("""const done = arguments[0];
+            const wait = () => window.paint.ws && document.getElementById("paper").width === 480 ?
+              done() : setTimeout(wait, 20);
+            wait();""")
+        yield driver, url, tmp_path
+    finally:
+        driver.quit()
+        proc.terminate()
+        proc.wait(timeout=30)
+        proc.stdout.close()
+
+
+def _canvas(driver):
+    url = driver.execute_script('return document.getElementById("paper").toDataURL("image/png")')
+    import base64
+
+    return cv2.imdecode(np.frombuffer(base64.b64decode(url.split(",", 1)[1]), np.uint8), cv2.IMREAD_COLOR)
+
+
+def _pen(x0, x1, y, pressure, tilt=(25, -10), n=40, wave=0.0):
+    return [[x0 + (x1 - x0) * k / (n - 1), y + wave * np.sin(6.3 * k / (n - 1)), p, tilt[0], tilt[1], 0]
+            for k, p in enumerate(np.broadcast_to(pressure, (n,)).tolist())]
+
+
+def test_the_page_paints_with_a_pen_undoes_and_its_log_replays(page):
+    driver, url, folder = page
+    driver.execute_async_script(STROKE_JS, _pen(60, 420, 90, 0.3))
+    driver.execute_async_script(STROKE_JS, _pen(60, 420, 200, 0.8))
+    two = _ink(_canvas(driver))
+    light, heavy = two[50:130, 100:380], two[150:250, 100:380]
+    assert (light > 0.5).any(axis=0).all() and (heavy > 0.5).any(axis=0).all(), "ink along both paths"
+    assert heavy.sum() > 1.5 * light.sum(), "heavier where the pen pressed harder"
+    driver.find_element("id", "undo").click()
+    driver.execute_async_script(WAIT_JS)
+    one = _ink(_canvas(driver))
+    assert one[150:250].max() < 0.05 and np.array_equal(one[:130], two[:130]), "undo removes the last stroke"
+    # the paper's dry map and grain on, a swelling wave across the page
+    for flag in ("dry_map", "grain"):
+        driver.find_element("id", f"flag-{flag}").click()
+    driver.execute_async_script(STROKE_JS, _pen(40, 440, 220, np.sin(np.linspace(0.3, 2.8, 60)) * 0.9,
+                                                tilt=(30, 10), n=60, wave=40.0))
+    shown = _canvas(driver)
+    import os
+    import urllib.request
+
+    log = folder / "page-log.json"
+    log.write_bytes(urllib.request.urlopen(url.replace("/?", "/log.json?") if "?" in url else url + "log.json").read())
+    replayed = replay(read_log(log)).paper.image()[..., ::-1]
+    assert _ink(shown)[150:].sum() > 200 and np.array_equal(replayed, shown), "the log replays to the page's image"
+    shot = os.environ.get("BRUSHWORK_SCREENSHOT")
+    driver.execute_script("window.scrollTo(0, 0)")
+    import time
+
+    time.sleep(0.3)                            # (the brush view's last image)
+    driver.save_screenshot(shot or str(folder / "page.png"))

@@ -110,19 +110,24 @@ def parse_message(text: str) -> dict:
     seq = msg.get("seq")
     if seq is not None and (isinstance(seq, bool) or not isinstance(seq, int) or not 0 <= seq < 2 ** 53):
         raise ValueError("seq: expected a non-negative integer")
-    kind, out = msg["type"], {"type": msg["type"], "seq": seq}
+    return {"type": msg["type"], "seq": seq, **_body(msg)}
+
+
+def _body(msg: dict) -> dict:
+    """The checked contents of a message of each type."""
+    kind = msg["type"]
     if kind == "samples":
         samples = msg.get("samples")
         if not isinstance(samples, list) or not 1 <= len(samples) <= MAX_SAMPLES:
             raise ValueError(f"samples: expected a list of 1..{MAX_SAMPLES} samples")
-        out["samples"] = [parse_sample(s) for s in samples]
-    elif kind == "dip":
-        out["dip"] = [_num(msg, "ink", 0.0, 1.0, 1.0), _num(msg, "wetness", 0.0, 1.0, 1.0)]
-    elif kind == "settings":
-        out["change"] = check_change({k: msg[k] for k in ("preset", "scene") if k in msg})
-    elif kind not in ("up", "undo", "clear"):
+        return {"samples": [parse_sample(s) for s in samples]}
+    if kind == "dip":
+        return {"dip": [_num(msg, "ink", 0.0, 1.0, 1.0), _num(msg, "wetness", 0.0, 1.0, 1.0)]}
+    if kind == "settings":
+        return {"change": check_change({k: msg[k] for k in ("preset", "scene") if k in msg})}
+    if kind not in ("up", "undo", "clear"):
         raise ValueError(f"unknown type {kind[:20]!r}")
-    return out
+    return {}
 
 
 def message_events(session: Session, msg: dict) -> list:
@@ -344,7 +349,12 @@ def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
 
 
 async def serve(app: web.Application, host: str, port: int, announce) -> None:
-    """Serve `app` until cancelled; `announce(url)` once it listens."""
+    """Serve `app` until SIGINT or SIGTERM (then the log is written); `announce(port)` once it listens."""
+    import signal
+
+    stop = asyncio.Event()
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        asyncio.get_running_loop().add_signal_handler(sig, stop.set)
     runner = web.AppRunner(app)
     await runner.setup()
     try:
@@ -352,6 +362,6 @@ async def serve(app: web.Application, host: str, port: int, announce) -> None:
         await site.start()
         bound = site._server.sockets[0].getsockname()[1] if port == 0 else port
         announce(bound)
-        await asyncio.Event().wait()
+        await stop.wait()
     finally:
         await runner.cleanup()

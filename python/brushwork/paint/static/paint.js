@@ -100,7 +100,7 @@ function sendSamples(events) {
 
 paper.addEventListener("pointerdown", (e) => {
   if (e.button !== 0) return;
-  paper.setPointerCapture(e.pointerId);
+  try { paper.setPointerCapture(e.pointerId); } catch (err) { /* a synthetic pointer: nothing to capture */ }
   state.down = true;
   state.last = null;
   sendSamples([e]);
