@@ -8,3 +8,5 @@ bw="${BRUSHWORK:-.venv/bin/brushwork}"
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
 "$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "${TMPDIR:-/tmp}/brushwork-sheet" \
   --sheet docs/sheet.png --no-progress
+# the page of `brushwork paint`, as its test in headless Chromium paints it (needs the paint extra and chromium)
+BRUSHWORK_SCREENSHOT=docs/paint.png "${PYTHON:-$(dirname "$bw")/python}" -m pytest -q tests/test_paint.py -k paints_with_a_pen

@@ -371,6 +371,7 @@ def test_the_page_paints_with_a_pen_undoes_and_its_log_replays(page):
     log.write_bytes(urllib.request.urlopen(url.replace("/?", "/log.json?") if "?" in url else url + "log.json").read())
     replayed = replay(read_log(log)).paper.image()[..., ::-1]
     assert _ink(shown)[150:].sum() > 200 and np.array_equal(replayed, shown), "the log replays to the page's image"
+    assert [p.name for p in folder.glob("paint-*.json")], "the motion log is written to --log-dir"
     shot = os.environ.get("BRUSHWORK_SCREENSHOT")
     driver.execute_script("window.scrollTo(0, 0)")
     import time

@@ -48,6 +48,15 @@ async def _measure(n: int, progress) -> dict:
         hello = json.loads((await ws.receive()).data)
         await ws.receive()                                   # the whole paper
         lat, inked = [], 0
+        # a stroke to warm up (the shaders' first compilation), then undone
+        for seq, s in enumerate(stroke(20, hello["width"], hello["height"]), start=n + 1):
+            await ws.send_str(json.dumps({"type": "samples", "seq": seq, "samples": [s]}))
+            await _answer(ws, seq)
+        for seq, kind in enumerate(("up", "undo"), start=n + 21):
+            await ws.send_str(json.dumps({"type": kind, "seq": seq}))
+            await _answer(ws, seq)
+        session = app[PAINTER].session
+        session.frames, session.sim_s = 0, 0.0
         progress(f"{n} samples, one at a time, on a {hello['width']} x {hello['height']} px paper")
         for seq, s in enumerate(stroke(n, hello["width"], hello["height"])):
             t0 = time.perf_counter()
@@ -57,7 +66,6 @@ async def _measure(n: int, progress) -> dict:
         await ws.send_str(json.dumps({"type": "up", "seq": n}))
         await _answer(ws, n)
         await ws.close()
-    session = app[PAINTER].session
     lat_ms = np.array(lat) * 1e3
     return {"tufts": TUFTS_NOTE, "samples": n, "inked_samples": inked, "size_px": list(session.size_px),
             "preset": session.settings["preset"], "scene": session.settings["scene"],

@@ -79,7 +79,7 @@ def check_event(ev) -> list:
         raise ValueError(f"event {str(ev)[:40]}: expected a list starting with its name")
     name, args = ev[0], ev[1:]
     if name == "pose" and len(args) == 6:
-        lim = ("x", -1e4, 1e4), ("y", -1e4, 1e4), ("z", -1e4, 1e4), ("tilt", 0.0, TILT_MAX), \
+        lim = ("x", -1e5, 1e5), ("y", -1e5, 1e5), ("z", -1e4, 1e4), ("tilt", 0.0, TILT_MAX), \
               ("azimuth", -1e4, 1e4), ("twist", -1e4, 1e4)
         return ["pose"] + [_number(v, n, lo, hi) for v, (n, lo, hi) in zip(args, lim)]
     if name in ("up", "undo", "clear") and not args:
@@ -155,8 +155,10 @@ class Session:
         # the root sits up the handle from the pen's point, so the straight tuft's tip touches
         # the paper under the pen: L sin(tilt) toward the azimuth
         reach, a = self.model.tuft_length * math.sin(math.radians(t)), math.radians(azimuth)
-        x = x_px / self.ppm + reach * math.cos(a)
-        y = self.settings["height_mm"] - y_px / self.ppm + reach * math.sin(a)
+        w, h = self.settings["width_mm"], self.settings["height_mm"]
+        # (a pen far off the paper is held a paper's size beyond its edge)
+        x = min(max(x_px / self.ppm, -w), 2.0 * w) + reach * math.cos(a)
+        y = min(max(h - y_px / self.ppm, -h), 2.0 * h) + reach * math.sin(a)
         z = root_height(self.model, t, PRESS_MAX * min(max(pressure, 0.0), 1.0))
         return ["pose", x, y, z, t, azimuth % 360.0, twist % 360.0]
 
