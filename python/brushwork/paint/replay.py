@@ -39,7 +39,7 @@ def replay(log: dict, size: int | None = None) -> Session:
     ppm = None
     if size is not None:
         if not 16 <= size <= MAX_PX:
-            raise ValueError(f"--size {size}: expected 16..{MAX_PX} px")
+            raise ValueError(f"size {size}: expected 16..{MAX_PX} px (the longer side)")
         ppm = size / max(s["width_mm"], s["height_mm"])
     session = Session(s, px_per_mm=ppm)
     for ev in log["events"]:

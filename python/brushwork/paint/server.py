@@ -253,6 +253,7 @@ async def _ws(request: web.Request) -> web.WebSocketResponse:
     painter.sockets.add(ws)
     await painter.send(ws, painter.hello())
     await painter.send(ws, painter.tile_message(painter.session.full_rect()))
+    await painter.send(ws, painter.view_message())
     buckets = {k: Bucket(*v) for k, v in RATE.items()}
     try:
         async for m in ws:
@@ -303,7 +304,7 @@ async def _image(request: web.Request) -> web.Response:
     try:
         paper = replay(session.log(), int(size)).paper
     except ValueError as err:
-        raise web.HTTPBadRequest(text=f"size: {err}") from None
+        raise web.HTTPBadRequest(text=str(err)) from None
     return web.Response(body=png_bytes(paper.image()), content_type="image/png",
                         headers={"Content-Disposition": f'attachment; filename="paint-{size}.png"'})
 

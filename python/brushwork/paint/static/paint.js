@@ -56,7 +56,7 @@ const handlers = {
       drawContact(m.contact);
       state.tiles += 1;
       if (m.seq !== null && m.seq !== undefined) state.drawnSeq = m.seq;
-    });
+    }).catch((err) => status("a tile could not be drawn: " + err));
   },
   view(m) { $("view").src = "data:image/png;base64," + m.png; },
   error(m) { status("server: " + m.message); console.warn(m.message); },
