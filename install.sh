@@ -2,7 +2,7 @@
 # Install what brushwork needs on a Debian/Ubuntu machine (apt: Eigen, EGL/GL headers and Mesa's
 # software renderer, a C++ compiler, CMake, the AR PL UKai reference font for contact sheets, and
 # python3-venv where Python's venv lacks pip), make a virtual environment .venv beside this script
-# and install the package into it with its test extra, KanjiVG's strokes, trimesh (outline) and the font extra (a system Python
+# and install the package into it with its test extra, KanjiVG's strokes, trimesh (outline), the font and paint extras (a system Python
 # that is externally managed, PEP 668, is never pip-installed into), then run the main job:
 # 永和九年 written by the brush into yonghe.png.
 # Set BRUSHWORK_SKIP_DEMO=1 to install only; PYTHON names the interpreter the venv is made from
@@ -25,7 +25,7 @@ fi
 if [ ! -x .venv/bin/python ] || ! .venv/bin/python -m pip --version >/dev/null 2>&1; then
   "$PYTHON" -m venv --clear .venv
 fi
-.venv/bin/python -m pip install -q ".[test,kanjivg,outline,font]"
+.venv/bin/python -m pip install -q ".[test,kanjivg,outline,font,paint]"
 if [ "${BRUSHWORK_SKIP_DEMO:-0}" != 1 ]; then
   .venv/bin/python -m brushwork render 永和九年 -o yonghe.png
 fi

@@ -17,3 +17,5 @@ fonts="${TMPDIR:-/tmp}/brushwork-font"
 mkdir -p "$fonts"
 "$bw" font --chars 永和九年岁在癸丑暮春 -o "$fonts/line.woff2" --no-progress
 "$py" -m brushwork.font.browser "$fonts/line.woff2" 永和九年岁在癸丑暮春 docs/font_line.png --px 96
+# the page of `brushwork paint`, as its test in headless Chromium paints it (needs the paint extra and chromium)
+BRUSHWORK_SCREENSHOT=docs/paint.png "$py" -m pytest -q tests/test_paint.py -k paints_with_a_pen

@@ -1,6 +1,6 @@
 """The README is documentation a user runs: its Python block works as written from any folder, its
-style table is the one the code validates with, and the images it shows are what the commands
-under them write."""
+style table and docs/parameters.md's brush table are the ones the code validates with, and the
+images it shows are what the commands under them write."""
 import re
 from pathlib import Path
 
@@ -46,6 +46,16 @@ def test_style_table_is_the_codes():
     assert found, "the README marks its style table"
     assert found.group(1).strip() == style_table().strip(), \
         "re-make the README's style table with `brushwork params --style`"
+
+
+def test_parameter_table_is_the_codes():
+    from brushwork.bench.report import parameter_table
+
+    doc = (ROOT / "docs" / "parameters.md").read_text(encoding="utf-8")
+    found = re.search(r"<!-- parameter-table -->\n(.*?)<!-- /parameter-table -->", doc, flags=re.S)
+    assert found, "docs/parameters.md marks its table"
+    assert found.group(1).strip() == parameter_table("medium").strip(), \
+        "re-make docs/parameters.md's table with `brushwork params`"
 
 
 def _shown_images() -> set[str]:

@@ -14,6 +14,9 @@
     brushwork outline MESH -o FILE [--size N] [--azimuth DEG] [--elevation DEG] [--style S] [--camera-json FILE] ...
     brushwork bench outline [--meshes DIR] [--json FILE]
     brushwork demo [-o FILE]
+    brushwork paint [--port P] [--host H --token T] [--size W H] [--preset P] [--log-dir DIR]
+    brushwork replay LOG -o FILE [--size N]
+    brushwork bench paint [--samples N] [--json FILE]
 
 New commands plug in through COMMANDS (top level) and BENCHMARKS (under `bench`): each maps a
 name to (help, add_arguments, handler); a handler takes the parsed arguments and returns the exit
@@ -466,6 +469,16 @@ def _bench_outline(args: argparse.Namespace) -> int:
     return _report("outline", args, lambda: outline.run(args, progress=_progress), outline.table)
 
 
+# paint, replay, bench paint: brushwork.paint.commands, imported when run (aiohttp is an extra)
+def _paint(name: str) -> Callable:
+    def call(arg):
+        from .paint import commands
+
+        return getattr(commands, name)(arg)
+
+    return call
+
+
 # the benchmarks under `brushwork bench`: name -> (help, add_arguments, handler)
 BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
     "stability": ("solver robustness on hard and odd motions", _stability_args, _stability),
@@ -485,6 +498,8 @@ BENCHMARKS: dict[str, tuple[str, AddArgs, Handler]] = {
                 _texture_args, _texture),
     "outline": ("3-D outlines of meshes: silhouette recall and precision, chains, time per phase, orbit coherence",
                 _bench_outline_args, _bench_outline),
+    "paint": ("pen sample to ink through `brushwork paint`'s WebSocket: p50, p95 ms; simulated fps",
+              _paint("bench_args"), _paint("bench")),
 }
 
 
@@ -508,6 +523,8 @@ COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
                _params_args, _params),
     "gallery": ("render the seed's Figure 11 sample strokes to one PNG", _gallery_args, _gallery),
     "outline": ("draw a 3-D mesh's visible feature lines with the brush", _outline_args, _outline),
+    "paint": ("paint with a pen (or mouse) in the browser: a local web app", _paint("paint_args"), _paint("paint")),
+    "replay": ("render the motion log of a painting to an image", _paint("replay_args"), _paint("replay")),
 }
 
 
