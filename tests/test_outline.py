@@ -215,3 +215,23 @@ def test_any_units_and_any_place(tmp_path, scale, offset):
     d = draw(prepare(*load_mesh(src)[:2]),
              View(30.0, 20.0, 30.0, (SIZE, SIZE)), OutlineStyle.load("baimiao"))
     assert len(_chains(d, SILHOUETTE)) == 1 and score(d)["recall"] >= 0.95
+
+
+@pytest.mark.parametrize("style", ["baimiao", "xieyi"])
+def test_a_line_ends_where_its_chain_ends(style):
+    """The footprint's front stops at the chain's end and the tip leaves the paper at once: ink
+    reaches past either end by at most 2 px (lines meeting at a point do not cross there), and
+    up to within 2 px of the end (the line is not cut short)."""
+    from brushwork.outline3d.chains import Chain
+    from brushwork.outline3d.strokes import OutlineDrawer
+
+    for heading in (0.0, 30.0, 250.0):
+        drawer = OutlineDrawer(OutlineStyle.load(style), (1024, 1024))
+        u = np.array([np.cos(np.radians(heading)), np.sin(np.radians(heading))])
+        start, end = np.array([512.0, 512.0]) - 300 * u, np.array([512.0, 512.0])
+        pts = start + np.linspace(0.0, 1.0, 60)[:, None] * (end - start)
+        drawer.draw(Chain(pts, np.zeros(60), SILHOUETTE))
+        rows, cols = np.nonzero(drawer.paper.ink() > 0.25)          # row 0 on top, as the chain's y
+        along = (np.column_stack([cols, rows]) + 0.5 - end) @ u       # px past the end
+        assert -2.0 <= along.max() <= 2.0, f"{style} at {heading} deg: ink ends {along.max():.1f} px from the end"
+        assert along.min() >= -300.0 - 2.0, f"{style} at {heading} deg: ink starts {-300 - along.min():.1f} px early"

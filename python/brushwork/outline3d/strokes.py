@@ -24,15 +24,16 @@ from ..brush import Brush, Pose
 from ..paper import Paper
 from ..recorded import along_path
 from ..scene import Scene
-from .lines import KINDS
+from .lines import KINDS, SILHOUETTE
 
 STYLE_DIR = Path(__file__).with_name("styles")
 APPROACH_FRAMES = 2     # frames of the descent onto the first point
-LIFT_FRAMES = 3         # frames of the lift after the last
+LIFT_FRAMES = 1         # frames of the lift after the last (one: the tip leaves at once, not flicked forward)
 HOVER = 0.08            # L above first contact between strokes
 ENTRY_START = 0.0       # of the line's press where the tip first touches
 ENTRY_PEAK = 0.4        # of the entry where the entry press is deepest
 OFFSET_GAIN = 0.25      # of the footprint centre's miss added to the root's offset each frame
+REHEARSAL_MM = 40.0     # length of the stroke that learns the offset before the first chain
 
 
 @dataclass
@@ -121,6 +122,7 @@ class OutlineDrawer:
         self.times = StrokeTimes()
         self._since_dip = None
         self.offset = np.zeros(2)      # mm, root - footprint centre along and across the heading
+        self._rehearse()
 
     def _dip(self, alpha: float, length_mm: float) -> None:
         st = self.style
@@ -153,26 +155,48 @@ class OutlineDrawer:
         self.times.strokes += 1
         self.times.frames += len(poses)
 
-    def _follow(self, poses: list) -> None:
+    def _rehearse(self) -> None:
+        """Learn the root's offset from the footprint's centre before the first stroke: a straight
+        stroke of REHEARSAL_MM at the silhouette's press, with a scratch brush and no paper, so
+        that the first chain starts where it should and not a trailing tuft's length early."""
+        st = self.style
+        brush, times = self.brush, self.times
+        self.brush, self.times = Brush(st.preset), StrokeTimes()
+        path = np.array([[0.0, 0.0], [REHEARSAL_MM, 0.0]])
+        press = st.press[KINDS[SILHOUETTE]] * press_profile(np.array([0.0, REHEARSAL_MM]), 1.0, st)
+        self._follow(along_path(self.brush.model, path, press, st.tilt_deg, None, step_mm=st.step_mm,
+                                approach_frames=APPROACH_FRAMES, lift_frames=LIFT_FRAMES, hover=HOVER), deposit=False)
+        self.brush, self.times = brush, times
+
+    def _follow(self, poses: list, deposit: bool = True) -> None:
         """Step and deposit along `poses`, the root shifted so that the footprint's centre (not
         the root, which the tilted, trailing tuft leaves behind and beside the line) follows the
         path.  The shift is kept in the path's frame (along, across the heading), where it hardly
         changes, learns OFFSET_GAIN of each frame's miss there, and carries over from stroke to
-        stroke; it never exceeds a tuft length."""
+        stroke; it never exceeds a tuft length.  The footprint's front stops at the path's end:
+        where the centre's target comes nearer the end than the footprint reaches ahead of its
+        centre (last frame's reach), the target is held back by the difference, so a line ends
+        where its chain ends instead of overshooting it (two lines meeting at a point would
+        cross there)."""
         reach = self.brush.model.tuft_length
-        for pose in poses:
+        ahead = 0.0
+        xy = np.array([p.position[:2] for p in poses], dtype=float)
+        along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(xy, axis=0), axis=1))])
+        for pose, s in zip(poses, along):
             a = np.radians(pose.azimuth_deg)
             frame = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])   # columns: along, across
-            target = np.asarray(pose.position[:2], dtype=float)
+            target = np.asarray(pose.position[:2], dtype=float) - frame[:, 0] * max(0.0, ahead - (along[-1] - s))
             root = target + frame @ self.offset
             t0 = time.perf_counter()
             self.brush.step(Pose((root[0], root[1], pose.position[2]), pose.tilt_deg, pose.azimuth_deg))
             t1 = time.perf_counter()
-            self.paper.deposit(self.brush)
+            if deposit:
+                self.paper.deposit(self.brush)
             loops = self.brush.footprint()
             seen = _core.footprint_span(loops, float(a)) if loops else None
             if seen is not None:
                 self.offset += OFFSET_GAIN * (frame.T @ (target - np.asarray(seen[0])))
                 self.offset *= min(1.0, reach / max(float(np.hypot(*self.offset)), 1e-12))
+                ahead = float(seen[3])
             self.times.brush += t1 - t0
             self.times.deposit += time.perf_counter() - t1
