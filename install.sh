@@ -5,7 +5,7 @@
 # and install the package into it with its test extra, KanjiVG's strokes, trimesh (outline), the font and paint extras (a system Python
 # that is externally managed, PEP 668, is never pip-installed into), then run the main job:
 # 永和九年 written by the brush into yonghe.png.
-# Set BRUSHWORK_SKIP_DEMO=1 to install only; PYTHON names the interpreter the venv is made from
+# Set BRUSHWORK_SKIP_DEMO=1 to install only, BRUSHWORK_EXTRAS to add extras (e.g. ray); PYTHON names the interpreter the venv is made from
 # (default python3).
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -25,7 +25,7 @@ fi
 if [ ! -x .venv/bin/python ] || ! .venv/bin/python -m pip --version >/dev/null 2>&1; then
   "$PYTHON" -m venv --clear .venv
 fi
-.venv/bin/python -m pip install -q ".[test,kanjivg,outline,font,paint]"
+.venv/bin/python -m pip install -q ".[test,kanjivg,outline,font,paint${BRUSHWORK_EXTRAS:+,$BRUSHWORK_EXTRAS}]"
 if [ "${BRUSHWORK_SKIP_DEMO:-0}" != 1 ]; then
   .venv/bin/python -m brushwork render 永和九年 -o yonghe.png
 fi
