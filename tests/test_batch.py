@@ -126,6 +126,29 @@ def test_render_writes_a_row_of_characters(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_frames_at_q_max_are_the_frames_the_cap_stopped(monkeypatch):
+    """A frame split into sub-steps adds up their iterations past q_max and still converges: the
+    tally counts the frames whose solve the cap stopped, whatever their iteration count."""
+    from brushwork.brush import Brush
+    from brushwork.writing import Style, writing_paper
+
+    statuses, step = [], Brush.step
+
+    def traced(self, pose):
+        stats = step(self, pose)
+        statuses.append((stats.status, stats.iterations, stats.substeps))
+        return stats
+
+    monkeypatch.setattr(Brush, "step", traced)
+    kai = Style.load("kai")
+    writer = Writer(writing_paper(kai, SIZE), kai)
+    writer.write(load_source("default", "永")["永"])
+    capped = sum(1 for status, _, _ in statuses if status == "iteration cap")
+    assert writer.solver["steps_at_q_max"] == capped == writer.solver["steps"] - sum(
+        1 for status, _, _ in statuses if status != "iteration cap")
+    assert any(n > 1 and status == "converged" for status, _, n in statuses), "some frame split and converged"
+
+
 def test_render_writes_the_writings_figures(tmp_path, capsys):
     stats = tmp_path / "stats.json"
     assert run_cli("render", "永和", "-o", tmp_path / "a.png", "--size", SIZE, "--stats", stats) == 0

@@ -68,8 +68,10 @@ class Writer:
         self.density = 1.0                # width factor of the character being written (density_gain)
         self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
-        # the solver over every frame written: steps, steps stopped at the iteration cap q_max,
-        # SQP iterations, sub-steps, the deepest penetration of the shrunk sections (mm)
+        # the solver over every frame written: steps, steps whose solve stopped at the iteration
+        # cap q_max unconverged (a split frame's iterations add up over its sub-steps, so a
+        # count of iterations alone says nothing), SQP iterations, sub-steps, the deepest
+        # penetration of the shrunk sections (mm)
         self.solver = {"steps": 0, "steps_at_q_max": 0, "iterations": 0, "substeps": 0, "max_penetration_mm": 0.0}
         self.planning = False             # rehearsing a stroke (no deposit, no tallies)
         self.rehearsed = 0                # solver steps spent rehearsing
@@ -84,7 +86,7 @@ class Writer:
             return stats
         tally = self.solver
         tally["steps"] += 1
-        tally["steps_at_q_max"] += int(stats.iterations >= self.shape.q_max)
+        tally["steps_at_q_max"] += int(stats.status == "iteration cap")
         tally["iterations"] += stats.iterations
         tally["substeps"] += stats.substeps
         tally["max_penetration_mm"] = max(tally["max_penetration_mm"], stats.max_penetration)
