@@ -96,7 +96,7 @@ const std::vector<ParamSlot>& slots() {
         "blocking plane ahead of a touching tip"),
       I("q_max", "-", 1, 100000, &BrushModel::q_max, "SQP iterations per frame"),
       I("newton_after", "-", 0, 100000, &BrushModel::newton_after,
-        "iterations of a frame's SQP after which, not yet converged, H is set once from the "
+        "every this many iterations of a frame's SQP without convergence, H is set from the "
         "Lagrangian's Hessian by differences of its gradient (0: never)"),
       F("tolerance", "-", 1e-14, 1e-1, &BrushModel::tolerance,
         "scaled KKT residual at which a frame's solve stops"),

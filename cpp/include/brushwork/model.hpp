@@ -57,7 +57,7 @@ struct BrushModel {
 
   // --- solver (seed "Real-time simulation") ---
   int q_max = 40;                       // SQP iterations per frame
-  int newton_after = 8;                 // BFGS iterations of a frame before H is set once from the Lagrangian's Hessian (0: never)
+  int newton_after = 8;                 // every this many SQP iterations unconverged, H from the Lagrangian's Hessian (0: never)
   double tolerance = 1e-5;              // KKT residual (scaled, see kkt_residual) to stop
   bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
 

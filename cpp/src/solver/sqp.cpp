@@ -48,7 +48,6 @@ struct Loop {
   double nu_max = 0.0;      // N, ceiling of the penalty
   bool fresh = false;       // H was started afresh since the last accepted step
   int q = 0;                // accepted steps
-  bool newton = false;      // H was set from the Lagrangian's Hessian this frame
 };
 
 enum class Outcome { kAccepted, kRetry, kStop };
@@ -290,10 +289,8 @@ double kkt(const Tuft& t, const VecX& gact, const VecX& g, const MatX& Jact, con
 void solve(const Tuft& t, BrushState& s, Workspace& w) {
   Loop L = start_loop(t, s, w);
   while (!s.stats.converged && L.q < t.model.q_max) {
-    if (L.q == t.model.newton_after && L.q > 0 && !L.newton) {
-      newton_hessian(t, s, w, L.m);
-      L.newton = true;
-    }
+    // every newton_after iterations without convergence, H from the Lagrangian's Hessian
+    if (t.model.newton_after > 0 && L.q > 0 && L.q % t.model.newton_after == 0) newton_hessian(t, s, w, L.m);
     if (iterate(t, s, w, L) == Outcome::kStop) break;
   }
   if (!t.model.warm_hessian) s.have_hessian = false;
