@@ -92,13 +92,3 @@ def test_bad_pose_raises_value_error_naming_field(kw, field):
     with pytest.raises(ValueError, match=field):
         bw.Pose(**kw)
 
-
-def test_readme_parameter_table_is_current():
-    # the README shows `brushwork params`; a changed default must show there too
-    import pathlib
-
-    from brushwork.bench.report import parameter_table
-
-    readme = pathlib.Path(__file__).resolve().parents[1] / "README.md"
-    assert parameter_table("medium") in readme.read_text(encoding="utf-8"), \
-        "README's parameter table is stale: paste the output of `brushwork params`"

@@ -2,7 +2,7 @@
 
     brushwork bench precision [--json FILE] [--out DIR] [--quick]
 
-What is measured (NUMERICS.md "Error against run time"):
+What is measured (error against run time, one frame problem at a time):
 
 * **References.** Every recorded motion (press-drag-turn-lift and a fast flick, on the stiffest
   and the softest preset, exponent m = 2 and 3) is replayed with the core's own solver at
