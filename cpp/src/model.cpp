@@ -195,6 +195,9 @@ BrushModel BrushModel::child_model() const {
   c.stretch_stiffness = f * f * stretch_stiffness;
   c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[tuft_node];
   c.wet_adhesion = f * f * wet_adhesion;
+  // thin tufts have no lateral nodes (seed: "eliminating lateral nodes of thin tufts"): they
+  // keep their round sections and bend only
+  c.lateral_spreading = false;
   c.tufts = 0;
   return c;
 }

@@ -22,7 +22,8 @@ double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int 
 Vec2 child_displacement(int j, int k);
 
 // the pose that puts a child's root at r on N_i's bisecting plane with its root frame the
-// parent's segment frame F_{i-1} (so equal bend and turn angles continue the parent's spine)
+// parent's segment frame F_{i-1} (so equal bend and turn angles continue the parent's spine),
+// leaned out toward its side of the lateral line in proportion to r_x (a fan, Figure 6b)
 Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r);
 
 // a new child's degrees of freedom: the parent's bend, turn and lateral-line angles below N_i

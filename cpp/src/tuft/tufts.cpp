@@ -17,6 +17,9 @@ namespace {
 constexpr double kMaxTiltDeg = 89.9;  // deg: Pose's bound; a child frame past it is held there
 constexpr double kMajorReach = 0.85;  // -, |r_xj| of the outermost children
 constexpr double kMinorOffset = 0.3;  // -, |r_yj|: children alternate above and below the major axis
+// rad, how far the outermost children lean out from the parent's spine (the fan of seed
+// Figure 6b): child j turns toward +-u_i by kSplay r_xj
+constexpr double kSplay = 0.15;
 // -, weight of the bend below N_i (in quarter turns) against the mean spread in the score
 constexpr double kBendWeight = 0.25;
 
@@ -45,9 +48,12 @@ Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r) {
   const double major = (r.x() >= 0.0 ? w.d_plus[node] : w.d_minus[node]) + t.rlat[node];
   Pose p;
   p.position = w.O[node] + r.x() * major * w.u[node] + r.y() * w.c[node] * w.w[node];
-  // root frame F_{i-1} as (tilt, azimuth, twist): e3 = -(handle axis), e1 in the handle's
+  // that frame as (tilt, azimuth, twist): e3 = -(handle axis), e1 in the handle's
   // vertical plane turned by the twist about e3 (frame.cpp, set_root_frame)
-  const Mat3& F = w.F[node - 1];
+  // root frame: F_{i-1} leaned toward the child's side of the lateral line by kSplay r_x
+  const Vec3 axis = w.F[node - 1].col(2).cross(w.u[node]);
+  const Mat3 F = (axis.norm() > 0.0 ? Eigen::AngleAxisd(kSplay * r.x(), axis.normalized()).toRotationMatrix()
+                                    : Mat3::Identity()) * w.F[node - 1];
   const Vec3 e3 = F.col(2);
   const double tl = std::min(std::acos(std::clamp(-e3.z(), -1.0, 1.0)), kMaxTiltDeg * kDeg);
   const double az = std::atan2(-e3.y(), -e3.x());
