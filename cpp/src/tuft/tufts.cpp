@@ -16,7 +16,7 @@ namespace {
 
 constexpr double kMaxTiltDeg = 89.9;  // deg: Pose's bound; a child frame past it is held there
 constexpr double kMajorReach = 0.85;  // -, |r_xj| of the outermost children
-constexpr double kMinorOffset = 0.3;  // -, |r_yj|: children alternate above and below the major axis
+constexpr double kMinorOffset = 0.1;  // -, |r_yj|: children alternate above and below the major axis
 // rad, how far the outermost children lean out from the parent's spine (the fan of seed
 // Figure 6b): child j turns toward +-u_i by kSplay r_xj
 constexpr double kSplay = 0.15;
