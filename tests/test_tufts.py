@@ -167,3 +167,23 @@ def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
     assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
     # and still ink where the main tuft's core passes
     assert split.sum() > 0.3 * single.sum()
+
+
+def test_bench_solver_times_each_tuft_count(tmp_path, capsys):
+    import json
+
+    from brushwork import cli
+
+    out = tmp_path / "solver.json"
+    assert cli.main(["bench", "solver", "--tufts", "1", "3", "--frames", "60", "--repeats", "1",
+                     "--json", str(out)]) == 0
+    rows = {(r["tufts"], r["mode"]): r for r in json.loads(out.read_text())["tuft_rows"]}
+    assert set(rows) == {(1, "carried"), (1, "fresh"), (3, "carried"), (3, "fresh")}
+    assert rows[1, "carried"]["split_frac"] == 0 and rows[1, "carried"]["mean_child_iterations"] == 0
+    assert rows[3, "carried"]["split_frac"] > 0 and rows[3, "carried"]["mean_child_iterations"] > 0
+    # the carried Hessian saves iterations for the children as for the main tuft (seed Table 1)
+    assert rows[3, "carried"]["mean_child_iterations"] < rows[3, "fresh"]["mean_child_iterations"]
+    assert "mean q (child)" in capsys.readouterr().out
+    assert cli.main(["bench", "solver", "--tufts", "0", "--frames", "60", "--repeats", "1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "tufts" in err[0]
