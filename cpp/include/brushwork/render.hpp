@@ -197,6 +197,8 @@ class Paper {
  private:
   void flush_stroke();
   void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
+  // a stroke frame for each tuft; those not swept from the last deposit start theirs
+  void start_frames(const std::vector<bool>& swept);
   // tuft k of the brush: its stroke frame frames_[k], its fields' seed
   void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
                  const Ink* ink, double excess, std::size_t k, DepositStats& stats);

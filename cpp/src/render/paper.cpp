@@ -317,6 +317,38 @@ namespace {
 // its streaks differ from its neighbours'
 constexpr std::uint32_t kTuftSeedStride = 7919;
 
+// every tuft's surface now (the main tuft first), and its sweep from its own last deposit when
+// the stroke goes on (`same`) and that tuft was there (a child sprouted since starts one)
+struct TuftSweeps {
+  std::vector<SweepFrame> cur;
+  std::vector<SweepPlan> plans;
+  std::vector<bool> swept;
+  bool contact = false;
+};
+
+TuftSweeps plan_tufts(const Paper& paper, const std::vector<const Brush*>& tufts,
+                      const std::vector<SweepFrame>& last, bool same, double soak) {
+  TuftSweeps t;
+  for (std::size_t k = 0; k < tufts.size(); ++k) {
+    t.cur.push_back(sweep_frame(*tufts[k], paper.mesh_options(tufts[k]->model()), soak));
+    t.swept.push_back(same && k < last.size() && last[k].position.size() == t.cur[k].position.size());
+    t.plans.push_back(plan_sweep(t.swept[k] ? &last[k] : nullptr, t.cur[k], paper.px_per_mm(),
+                                 paper.width_px(), paper.height_px()));
+    t.contact = t.contact || t.plans[k].contact;
+  }
+  return t;
+}
+
+// the deposit's figures: the main tuft's blends and slides, the rectangle and travel of all
+void plan_stats(const std::vector<SweepPlan>& plans, DepositStats& stats) {
+  stats.substeps = plans[0].blends;
+  stats.slides = std::max(plans[0].slides_prev, plans[0].slides_cur);
+  for (const SweepPlan& p : plans) {
+    stats.rect = unite(stats.rect, p.rect);
+    stats.travel = std::max(stats.travel, p.travel);
+  }
+}
+
 }  // namespace
 
 DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
@@ -324,53 +356,46 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   check_deposit(brush, ink);
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
-  // every tuft's surface now, and its sweep from its own last deposit (a new child starts one)
   const std::vector<const Brush*> tufts = brush.tufts();
-  const bool same = stroke_open_ && last_brush_ == &brush;
-  std::vector<SweepFrame> cur(tufts.size());
-  std::vector<SweepPlan> plans(tufts.size());
-  std::vector<bool> swept(tufts.size());
-  for (std::size_t k = 0; k < tufts.size(); ++k) {
-    cur[k] = sweep_frame(*tufts[k], mesh_options(tufts[k]->model()), scene_.soak_expand * excess);
-    swept[k] = same && k < last_.size() && last_[k].position.size() == cur[k].position.size();
-    plans[k] = plan_sweep(swept[k] ? &last_[k] : nullptr, cur[k], ppm_, W_, H_);
-    stats.contact = stats.contact || plans[k].contact;
-  }
+  TuftSweeps t = plan_tufts(*this, tufts, last_, stroke_open_ && last_brush_ == &brush,
+                            scene_.soak_expand * excess);
+  stats.contact = t.contact;
   if (!stats.contact) {
     // the brush left the paper: the stroke ends here
     end_stroke();
     return stats;
   }
-  // continue the stroke from the last deposit, or start one
-  if (!swept[0]) {
+  // continue the stroke from the last deposit, or start one; each tuft new to the stroke
+  // starts its own stroke frame
+  if (!t.swept[0]) {
     flush_stroke();
     stats.new_stroke = true;
     stroke_rect_ = {0, 0, 0, 0};
   }
-  if (frames_.size() < tufts.size()) frames_.resize(tufts.size());
-  for (std::size_t k = 0; k < tufts.size(); ++k) {
-    if (!frames_[k]) frames_[k] = std::make_unique<StrokeFrame>();
-    if (!swept[0] || !swept[k]) frames_[k]->start();
-  }
+  start_frames(t.swept);
   // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
   // (the sweep goes on from the last deposit)
   const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
   if (max_blend_ && stroke_pending_ && color != stroke_color_) flush_stroke();
   stroke_color_ = color;
-  stats.substeps = plans[0].blends;
-  stats.slides = std::max(plans[0].slides_prev, plans[0].slides_cur);
-  stats.rect = plans[0].rect;
-  stats.travel = plans[0].travel;
-  for (std::size_t k = 0; k < tufts.size(); ++k) {
-    if (k > 0) stats.rect = unite(stats.rect, plans[k].rect), stats.travel = std::max(stats.travel, plans[k].travel);
-    if (plans[k].draws()) draw_plan(plans[k], swept[k] ? last_[k] : cur[k], cur[k], *tufts[k], ink, excess, k, stats);
-  }
+  plan_stats(t.plans, stats);
+  for (std::size_t k = 0; k < tufts.size(); ++k)
+    if (t.plans[k].draws())
+      draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, k, stats);
   // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
   if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
   stroke_open_ = true;
   last_brush_ = &brush;
-  last_ = std::move(cur);
+  last_ = std::move(t.cur);
   return stats;
+}
+
+void Paper::start_frames(const std::vector<bool>& swept) {
+  frames_.resize(std::max(frames_.size(), swept.size()));
+  for (std::size_t k = 0; k < swept.size(); ++k) {
+    if (!frames_[k]) frames_[k] = std::make_unique<StrokeFrame>();
+    if (!swept[k]) frames_[k]->start();
+  }
 }
 
 void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
