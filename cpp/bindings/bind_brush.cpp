@@ -61,6 +61,11 @@ void bind_stats(py::module_& m) {
                     "sub-steps this frame was split into (a pose far from the last one)")
       .def_readonly("pore_active", &StepStats::pore_active, "the pore blocking plane was active")
       .def_readonly("penalty", &StepStats::penalty, "nu of the l1 merit function")
+      .def_readonly("tufts_active", &StepStats::tufts_active, "child tufts sprouted after this frame")
+      .def_readonly("tuft_iterations", &StepStats::tuft_iterations,
+                    "SQP iterations of the child tufts' own minimisations this frame")
+      .def_readonly("sprout_score", &StepStats::sprout_score,
+                    "the main tuft's sprouting score this frame (model.sprout_spread sprouts)")
       .def_readonly("status", &StepStats::status)
       .def_readonly("merit_before", &StepStats::merit_before, "merit before each accepted step")
       .def_readonly("merit_after", &StepStats::merit_after, "merit after each accepted step")
@@ -87,6 +92,8 @@ that moment.)doc")
       .def("__copy__", [](const BrushState& s) { return BrushState(s); })
       .def("__deepcopy__", [](const BrushState& s, py::dict) { return BrushState(s); }, py::arg("memo"))
       .def_property_readonly("n_segments", [](const BrushState& s) { return s.x.size() / 5; })
+      .def_property_readonly("tufts_active", [](const BrushState& s) { return s.tufts_active; },
+                             "child tufts sprouted in this state")
       .def_property_readonly("full_state", [](const BrushState& s) { return Eigen::VectorXd(s.x); },
                              "(5n,) all variables, as Brush.full_state()")
       .def("__repr__", [](const BrushState& s) {
@@ -169,6 +176,16 @@ void bind_brush_class(py::module_& m) {
            py::arg("options") = MeshOptions())
       .def("footprint", &Brush::footprint, py::arg("options") = MeshOptions())
       .def("footprint_area", &Brush::footprint_area, py::arg("options") = MeshOptions())
+      .def("own_footprint", &Brush::own_footprint, py::arg("options") = MeshOptions(),
+           "the main tuft's footprint loops alone (footprint() holds every tuft's)")
+      .def_property_readonly("tufts_active", &Brush::tufts_active, "child tufts sprouted now")
+      .def("_tuft_skeletons",
+           [](const Brush& b) {
+             std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> all;
+             for (const Brush* t : b.tufts()) all.push_back(t->skeleton());
+             return all;
+           },
+           "(n_j+1, 3) mm spine of each tuft, the main tuft first")
       .def("state", &Brush::state, "a copy of the whole mutable state (BrushState)")
       .def("set_state", &Brush::set_state, py::arg("state"),
            "put back a state from state(); ValueError if it belongs to a brush of another shape")

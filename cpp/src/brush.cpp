@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "brushwork/tufts.hpp"
 #include "tuft/internal.hpp"
 
 namespace brushwork {
@@ -47,17 +48,74 @@ void Pose::validate() const {
 }
 
 Brush::Brush(const BrushModel& model) : tuft_(model), state_(initial_state(tuft_)), ws_(tuft_) {
+  if (model.tufts > 0) children_.assign(model.tufts, Brush(model.child_model()));
   reset();
 }
 
-void Brush::reset() { reset_state(tuft_, state_, ws_); }
+void Brush::reset() {
+  // a simple reset reverts a split brush to a single tuft
+  reset_state(tuft_, state_, ws_);
+  state_.tufts_active = 0;
+  for (Brush& c : children_) c.reset();
+}
 
-StepStats Brush::step(const Pose& pose) { return brushwork::step(tuft_, state_, pose, ws_); }
+StepStats Brush::step(const Pose& pose) {
+  StepStats st = brushwork::step(tuft_, state_, pose, ws_);
+  if (children_.empty()) return st;
+  step_children(st);
+  state_.stats = st;
+  return st;
+}
+
+void Brush::step_children(StepStats& st) {
+  const BrushModel& md = tuft_.model;
+  // friction acts only in contact: a tuft in the air neither sprouts nor stays split
+  const double score = sprout_score(tuft_, state_, ws_, md.tuft_node);
+  if (state_.tufts_active == 0 && st.contacts > 0 && score >= md.sprout_spread) sprout();
+  else if (state_.tufts_active > 0 && (st.contacts == 0 || score < 0.5 * md.sprout_spread))
+    state_.tufts_active = 0;
+  st.tufts_active = state_.tufts_active;
+  st.tuft_iterations = 0;
+  st.sprout_score = score;
+  for (int j = 0; j < state_.tufts_active; ++j) {
+    const Pose p = child_pose(tuft_, ws_, md.tuft_node, child_displacement(j, md.tufts));
+    const StepStats& cs = children_[j].step(p);
+    st.tuft_iterations += cs.iterations;
+    st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
+    st.time += cs.time;
+  }
+}
+
+void Brush::sprout() {
+  state_.tufts_active = static_cast<int>(children_.size());
+  for (Brush& c : children_) {
+    c.reset();
+    seed_child(tuft_, state_, tuft_.model.tuft_node, c.tuft_, c.state_);
+    kinematics(c.tuft_, c.state_, c.state_.x, c.ws_);
+  }
+}
+
+BrushState Brush::state() const {
+  BrushState s = state_;
+  for (const Brush& c : children_) s.children.push_back(c.state_);
+  return s;
+}
 
 void Brush::set_state(const BrushState& s) {
   check_state_shape(tuft_, s);
+  if (s.children.size() != children_.size())
+    throw std::invalid_argument("state: expected " + std::to_string(children_.size()) +
+                                " child tufts, got " + std::to_string(s.children.size()));
+  for (size_t j = 0; j < children_.size(); ++j) children_[j].set_state(s.children[j]);
   state_ = s;
+  state_.children.clear();
   kinematics(tuft_, state_, state_.x, ws_);
+}
+
+std::vector<const Brush*> Brush::tufts() const {
+  std::vector<const Brush*> all{this};
+  for (int j = 0; j < state_.tufts_active; ++j) all.push_back(&children_[j]);
+  return all;
 }
 
 void Brush::set_ink(const Ink& ink) {
@@ -157,13 +215,35 @@ Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> Brush::lateral_nodes()
   return s;
 }
 
-std::vector<Section> Brush::sections() const { return brushwork::sections(tuft_, ws_); }
+std::vector<Section> Brush::sections() const {
+  std::vector<Section> secs = brushwork::sections(tuft_, ws_);
+  if (state_.tufts_active == 0) return secs;
+  // split: below N_i the main tuft keeps tuft_core of its major radii, the children the rest
+  for (int i = tuft_.model.tuft_node + 1; i <= tuft_.n; ++i) {
+    secs[i].a_plus *= tuft_.model.tuft_core;
+    secs[i].a_minus *= tuft_.model.tuft_core;
+  }
+  return secs;
+}
 
 SurfaceMesh Brush::surface_mesh(const MeshOptions& opt) const { return sweep_surface(sections(), opt); }
 
-Loops Brush::footprint(const MeshOptions& opt) const { return footprint_loops(surface_mesh(opt)); }
+Loops Brush::own_footprint(const MeshOptions& opt) const { return footprint_loops(surface_mesh(opt)); }
 
-double Brush::footprint_area(const MeshOptions& opt) const { return loops_area(footprint(opt)); }
+Loops Brush::footprint(const MeshOptions& opt) const {
+  Loops all;
+  for (const Brush* t : tufts()) {
+    Loops l = t->own_footprint(opt);
+    all.insert(all.end(), l.begin(), l.end());
+  }
+  return all;
+}
+
+double Brush::footprint_area(const MeshOptions& opt) const {
+  double area = 0.0;
+  for (const Brush* t : tufts()) area += loops_area(t->own_footprint(opt));
+  return area;
+}
 
 VecX Brush::section_heights() const { return brushwork::section_heights(tuft_, ws_); }
 

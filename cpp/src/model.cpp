@@ -1,6 +1,7 @@
 // Parameter table, validation, presets and derived per-node arrays of BrushModel.
 #include "brushwork/model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -102,6 +103,18 @@ const std::vector<ParamSlot>& slots() {
         "scaled KKT residual at which a frame's solve stops"),
       B("warm_hessian", &BrushModel::warm_hessian,
         "carry the BFGS matrix across frames (off: a fresh one each frame)"),
+      I("tufts", "-", 0, 8, &BrushModel::tufts,
+        "child tufts T_j that sprout from the main tuft when it spreads (0: a single tuft)"),
+      I("tuft_node", "-", 1, kMaxSegments - 1, &BrushModel::tuft_node,
+        "parent node N_i of the child tufts, counted from the root (below n_segments)"),
+      F("tuft_radius", "-", 0.05, 1.0, &BrushModel::tuft_radius,
+        "a child tuft's belly radius / the main tuft's radius r_i at its parent node"),
+      F("sprout_spread", "-", 0.0, 10.0, &BrushModel::sprout_spread,
+        "sprouting score (spread, bend and dryness below N_i) at which the children sprout; "
+        "they merge when it falls below half of it or the tuft leaves the paper"),
+      F("tuft_core", "-", 0.05, 1.0, &BrushModel::tuft_core,
+        "the main tuft's lateral radii below N_i while split, as a fraction (the hairs the "
+        "children took)"),
   };
   return table;
 }
@@ -160,6 +173,33 @@ void BrushModel::validate() const {
                                   " is out of range [" + fmt(s.info.lo) + ", " + fmt(s.info.hi) +
                                   "] " + s.info.unit);
   }
+  if (tufts > 0 && tuft_node >= n_segments)
+    throw std::invalid_argument("BrushModel.tuft_node = " + fmt(tuft_node) +
+                                " must be below n_segments = " + fmt(n_segments));
+}
+
+BrushModel BrushModel::child_model() const {
+  // the spine from N_i to the tip keeps its segment lengths: same ratio, the remaining length
+  BrushModel c = *this;
+  const Eigen::VectorXd s = node_arclength();
+  const double f = tuft_radius;
+  c.n_segments = n_segments - tuft_node;
+  c.tuft_length = tuft_length - s[tuft_node];
+  c.belly_radius = f * node_radii()[tuft_node];
+  c.belly_position = 0.05;  // thickest at its root, tapering like the parent's tail
+  // a child holds f^2 of the hairs at N_i: its springs are the parent's at joint i times f^2
+  const Eigen::VectorXd kb = bend_kappa();
+  c.bend_stiffness = f * f * kb[tuft_node];
+  c.stiffness_ratio = std::max(1.0, std::pow(stiffness_ratio, static_cast<double>(c.n_segments - 1) /
+                                                                  std::max(1, n_segments - 1)));
+  c.stretch_stiffness = f * f * stretch_stiffness;
+  c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[tuft_node];
+  c.wet_adhesion = f * f * wet_adhesion;
+  // thin tufts have no lateral nodes (seed: "eliminating lateral nodes of thin tufts"): they
+  // keep their round sections and bend only
+  c.lateral_spreading = false;
+  c.tufts = 0;
+  return c;
 }
 
 Eigen::VectorXd BrushModel::segment_lengths() const {

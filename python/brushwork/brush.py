@@ -66,6 +66,12 @@ class Brush(_core.Brush):
         m = self.model
         return 2.0 * math.pi * m.belly_radius ** 2 * m.tuft_length
 
+    def tufts(self) -> list[np.ndarray]:
+        """The spine of every tuft, the main tuft first, then each sprouted child tuft (seed
+        "Simulation with multiple tufts"): a list of (n_j+1, 3) arrays in mm, root first;
+        ``tufts_active`` counts the children."""
+        return self._tuft_skeletons()
+
     def lateral_nodes(self):
         """(n+1, 2, 3) lateral node positions in mm: [:, 0] on the +u side, [:, 1] on the -u side."""
         return super().lateral_nodes().reshape(-1, 2, 3)

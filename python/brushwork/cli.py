@@ -6,7 +6,7 @@
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
-    brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N]
+    brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N] [--tufts K ...]
     brushwork bench precision [--json FILE] [--out DIR] [--quick] [--repeats N] [--no-peers]
     brushwork bench font [--count 60] [--jobs 2] [--executor local|ray] [--json FILE]
     brushwork bench fuzz [--n N] [--seed N] [--render-every N] [--json FILE]
@@ -53,6 +53,8 @@ def _solver_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--preset", default="medium", help="brush preset (default medium)")
     p.add_argument("--frames", type=int, default=320, help="frames of the stroke (default 320)")
     p.add_argument("--repeats", type=int, default=5, help="runs per mode, best kept (default 5)")
+    p.add_argument("--tufts", type=int, nargs="+", metavar="K",
+                   help="also time the brush split into K tufts (the seed's Table 1: 1 3 5)")
 
 
 def _check_preset(name: str) -> None:
@@ -85,7 +87,7 @@ def _solver(args: argparse.Namespace) -> int:
 
     _check_preset(args.preset)
     return _report("solver", args, lambda: solver.run(preset=args.preset, frames=args.frames,
-                                                      repeats=args.repeats), solver.table)
+                                                      repeats=args.repeats, tufts=args.tufts), solver.table)
 
 
 def _render_args(p: argparse.ArgumentParser) -> None:

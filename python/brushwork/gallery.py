@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import BrushModel
 from .brush import Brush
 from .recorded import along_path
 from .paper import Paper, write_png
@@ -34,6 +35,7 @@ class Sample:
     ramp: list | None = None
     excess: float = 0.0
     flatten: float = 0.0               # press straight down this deep (L) first, to flatten the tuft
+    model: dict = field(default_factory=dict)  # BrushModel fields that differ from the medium brush
     notes: str = ""
     extra: dict = field(default_factory=dict)
 
@@ -73,11 +75,17 @@ def samples() -> list[Sample]:
                              for x in (20, 40, 60)]),
         Sample("j", "drying brush", [(wave, 0.26 * np.ones(len(wave)), 20.0, None)],
                ink_total_mm2=450.0, notes="ink depletes: streaks open as the brush dries"),
+        Sample("k", "split brush", [(_line(20, 25, 68, 25), rise(6, 0.2), 20.0, None)],
+               flatten=0.45, model={"tufts": 5, "sprout_spread": 0.5},
+               notes="pressed and spread, the tuft splits into five tufts that leave separate streaks"),
     ]
 
 
 def _draw_sample(paper: Paper, sample: Sample, origin: tuple[float, float]) -> None:
-    brush = Brush("medium")
+    model = BrushModel.preset("medium")
+    for name, value in sample.model.items():
+        setattr(model, name, value)
+    brush = Brush(model)
     L = brush.model.tuft_length
     ink = brush.load_ink(total_mm2=sample.ink_total_mm2, ramp=sample.ramp or [(0.02, 0.02, 0.02, 1.0)],
                          excess=sample.excess)

@@ -40,22 +40,29 @@ class Brush {
   explicit Brush(const BrushModel& model);
 
   const BrushModel& model() const { return tuft_.model; }
+  // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting or merging and each
+  // sprouted child tuft's own minimisation (seed "Simulation with multiple tufts")
   StepStats step(const Pose& pose);
   const StepStats& last_stats() const { return state_.stats; }
   void reset();  // straight, unstrained, plasticity forgotten, Hessian forgotten
 
   // the whole mutable state, as a value: state() is a copy; set_state() puts one back (throws
   // std::invalid_argument if it was made for a brush of another shape)
-  BrushState state() const { return state_; }
+  BrushState state() const;  // this tuft's state, the children's in its `children`
   void set_state(const BrushState& s);
 
   // geometry of the current state
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton() const;        // (n+1, 3) mm
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> lateral_nodes() const;   // (2(n+1), 3) mm: node i at rows 2i (+u) and 2i+1 (-u)
-  std::vector<Section> sections() const;                                             // Omega_0..Omega_n
+  std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while split)
   SurfaceMesh surface_mesh(const MeshOptions& opt) const;
-  Loops footprint(const MeshOptions& opt) const;
-  double footprint_area(const MeshOptions& opt) const;
+  Loops footprint(const MeshOptions& opt) const;        // the loops of every tuft, this one first
+  double footprint_area(const MeshOptions& opt) const;  // mm^2, summed over the tufts
+  Loops own_footprint(const MeshOptions& opt) const;    // this tuft's loops alone
+
+  // the tuft hierarchy: this tuft, then each sprouted child (a Brush of model().child_model())
+  std::vector<const Brush*> tufts() const;
+  int tufts_active() const { return state_.tufts_active; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
 
   // the frame problem, for tests and other solvers: prepare() does step()'s set-up (pose,
@@ -86,10 +93,14 @@ class Brush {
  private:
   // the full vector x with the active variables z put in (validates z's size)
   VecX with_variables(const VecX& z) const;
+  // sprout or merge the children, then step the sprouted ones; adds their figures to st
+  void step_children(StepStats& st);
+  void sprout();
 
   Tuft tuft_;
   BrushState state_;
   Workspace ws_;
+  std::vector<Brush> children_;  // (model.tufts) child tufts T_j, their states their own
 };
 
 }  // namespace brushwork

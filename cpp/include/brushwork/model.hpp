@@ -61,6 +61,13 @@ struct BrushModel {
   double tolerance = 1e-5;              // KKT residual (scaled, see kkt_residual) to stop
   bool warm_hessian = true;             // carry the BFGS matrix L_xx across frames
 
+  // --- multiple tufts (seed "Simulation with multiple tufts", Figure 6) ---
+  int tufts = 0;                        // child tufts T_j at most (0: a single tuft)
+  int tuft_node = 2;                    // parent node N_i of the children (1..n-1)
+  double tuft_radius = 0.4;             // child belly radius / the parent's r_i at N_i
+  double sprout_spread = 1.0;           // sprouting score at which the children sprout (they merge below half)
+  double tuft_core = 0.2;               // the parent's lateral radii below N_i while split, as a fraction
+
   // throws std::invalid_argument naming the field and the value
   void validate() const;
 
@@ -71,6 +78,10 @@ struct BrushModel {
   Eigen::VectorXd bend_kappa() const;       // (n,) N*mm/rad^m, kappa at joints 0..n-1, root stiffest
   Eigen::VectorXd stiffness_profile() const;  // (n,) -, kappa_j / kappa_0 (bend and lateral bend springs)
   double radius_profile(double t) const;    // -, r(t) / belly radius at t = s / L along the unbent spine
+  // the model of a child tuft T_j hanging from N_{tuft_node}: the parent's spine from that node
+  // to the tip, its radius tuft_radius r_i, its springs scaled by the hair count, no lateral
+  // spreading (a thin tuft), tufts = 0
+  BrushModel child_model() const;
 
   static BrushModel preset(const std::string& name);
   static std::vector<std::string> preset_names();

@@ -150,7 +150,9 @@ class Paper {
   Paper& operator=(const Paper&) = delete;
 
   // draw the brush's footprint swept from its last deposit; ink may be null: black, constant
-  // level.  The ink and the brush are left as they are: spend_ink() applies the stats to them
+  // level.  The ink and the brush are left as they are: spend_ink() applies the stats to them.
+  // A split brush deposits every tuft (Brush::tufts()), each swept from its own last deposit,
+  // through its own stroke frame and its own seed of the split and dry fields
   DepositStats deposit(const Brush& brush, const Ink* ink);
   void end_stroke();   // composite the stroke layer (also on lift, readback and save)
   bool undo();         // remove the last stroke; false when there is none
@@ -195,8 +197,11 @@ class Paper {
  private:
   void flush_stroke();
   void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
+  // a stroke frame for each tuft; those not swept from the last deposit start theirs
+  void start_frames(const std::vector<bool>& swept);
+  // tuft k of the brush: its stroke frame frames_[k], its fields' seed
   void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
-                 const Ink* ink, double excess, DepositStats& stats);
+                 const Ink* ink, double excess, std::size_t k, DepositStats& stats);
   double layer_gain(const std::array<int, 4>& rect);  // mm^2 the stroke layer gained over rect
   void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
   void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
@@ -219,8 +224,8 @@ class Paper {
   // stroke state: the last deposit's surface (for the sweep), the stroke's pixel rectangle
   bool stroke_open_ = false, stroke_pending_ = false;
   const Brush* last_brush_ = nullptr;
-  SweepFrame last_;
-  std::unique_ptr<StrokeFrame> frame_;  // the stroke frame of the split and dry fields
+  std::vector<SweepFrame> last_;  // each tuft's surface at the last deposit, the main tuft first
+  std::vector<std::unique_ptr<StrokeFrame>> frames_;  // each tuft's stroke frame of the split and dry fields
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom

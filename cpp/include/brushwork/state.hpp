@@ -49,6 +49,9 @@ struct StepStats {
   bool pore_active = false;     // the blocking plane was in the problem this frame
   int substeps = 1;             // the frame was split into this many sub-steps (continuation)
   double penalty = 0.0;         // nu of the l1 merit function
+  int tufts_active = 0;         // child tufts T_j sprouted after this frame
+  int tuft_iterations = 0;      // SQP iterations of the child tufts' own minimisations this frame
+  double sprout_score = 0.0;    // the main tuft's sprouting score (tufts.hpp) this frame
   std::string status;           // "converged", "iteration cap", "line search", "qp", "no motion"
   std::vector<double> merit_before, merit_after;  // per accepted step, with the same nu
   std::vector<double> step_sizes;                 // alpha of each accepted step
@@ -120,6 +123,11 @@ struct BrushState {
   Ink ink;       // no nodes until the brush is first dipped
 
   StepStats stats;  // of the last step
+
+  // --- child tufts T_j (seed "Simulation with multiple tufts"): each one's own state (spine,
+  // BFGS H, rest angles, contact), in Brush::state() copies; empty for a single tuft ---
+  int tufts_active = 0;              // children 0..tufts_active-1 are sprouted
+  std::vector<BrushState> children;  // (model.tufts) the children's states
 };
 
 }  // namespace brushwork

@@ -312,8 +312,12 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
   gl::Enable(GL_DEPTH_TEST);
   gl::DepthFunc(GL_LEQUAL);
   if (paper != nullptr) draw_paper(tiles, paper->px_per_mm(), mvp.data());
-  const int n_idx = upload_tuft(brush, ink);
-  draw_tuft(o, o.shadow && paper != nullptr, n_idx, dist, mvp.data());
+  // every tuft of a split brush, the main tuft first; each child's ink is its own
+  for (const Brush* t : brush.tufts()) {
+    const Ink* tuft_ink = t == &brush ? ink : (ink != nullptr && t->ink().loaded() ? &t->ink() : nullptr);
+    const int n_idx = upload_tuft(*t, tuft_ink);
+    draw_tuft(o, o.shadow && paper != nullptr, n_idx, dist, mvp.data());
+  }
   gl::Disable(GL_DEPTH_TEST);
   gl::BindVertexArray(0);
   read_back(out);

@@ -114,7 +114,7 @@ void FootprintPass::set_texture_uniforms(const FootprintInputs& in) {
                 static_cast<float>(from_speed), static_cast<float>(dry | grain));
   gl::Uniform4f(u_frame_, in.frame[0], in.frame[1], in.frame[2], in.frame[3]);
   gl::Uniform1f(u_frame_s_, static_cast<float>(in.frame_s));
-  gl::Uniform1i(u_seed_, static_cast<GLint>(scene_.seed));
+  gl::Uniform1i(u_seed_, static_cast<GLint>(in.seed));
   int images = 0;  // bit u: map u (split, dry, grain) is an image
   for (int u = 0; u < 3; ++u)
     if (in.maps[u] != 0) images |= 1 << u;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "brushwork/render.hpp"
@@ -27,6 +28,7 @@ struct FootprintInputs {
   std::array<float, 4> frame{{0, 0, 1, 0}};  // stroke frame: centre (mm), unit travel direction
   double frame_s = 0.0;           // mm: the centre's travel along the stroke
   double speed = 0.0;             // mm per deposit: the centre's move
+  std::uint32_t seed = 1;         // the procedural fields' seed (the scene's, offset per tuft)
 };
 
 // A tile of the stroke layer to draw into: its framebuffer, where it lies on the paper (px, y

@@ -153,7 +153,6 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
 
   // the split, dry and grain fields are procedural (in the footprint shader) until an image
   // replaces one (set_map)
-  frame_ = std::make_unique<StrokeFrame>();
   if (scene_.color_ramp)
     ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
   glu::check("paper set-up");
@@ -312,45 +311,95 @@ void Paper::check_deposit(const Brush& brush, const Ink* ink) const {
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
 }
 
+namespace {
+
+// the fields' seed of tuft k: the scene's for the main tuft, offset for each child so that
+// its streaks differ from its neighbours'
+constexpr std::uint32_t kTuftSeedStride = 7919;
+
+// every tuft's surface now (the main tuft first), and its sweep from its own last deposit when
+// the stroke goes on (`same`) and that tuft was there (a child sprouted since starts one)
+struct TuftSweeps {
+  std::vector<SweepFrame> cur;
+  std::vector<SweepPlan> plans;
+  std::vector<bool> swept;
+  bool contact = false;
+};
+
+TuftSweeps plan_tufts(const Paper& paper, const std::vector<const Brush*>& tufts,
+                      const std::vector<SweepFrame>& last, bool same, double soak) {
+  TuftSweeps t;
+  for (std::size_t k = 0; k < tufts.size(); ++k) {
+    t.cur.push_back(sweep_frame(*tufts[k], paper.mesh_options(tufts[k]->model()), soak));
+    t.swept.push_back(same && k < last.size() && last[k].position.size() == t.cur[k].position.size());
+    t.plans.push_back(plan_sweep(t.swept[k] ? &last[k] : nullptr, t.cur[k], paper.px_per_mm(),
+                                 paper.width_px(), paper.height_px()));
+    t.contact = t.contact || t.plans[k].contact;
+  }
+  return t;
+}
+
+// the deposit's figures: the main tuft's blends and slides, the rectangle and travel of all
+void plan_stats(const std::vector<SweepPlan>& plans, DepositStats& stats) {
+  stats.substeps = plans[0].blends;
+  stats.slides = std::max(plans[0].slides_prev, plans[0].slides_cur);
+  for (const SweepPlan& p : plans) {
+    stats.rect = unite(stats.rect, p.rect);
+    stats.travel = std::max(stats.travel, p.travel);
+  }
+}
+
+}  // namespace
+
 DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   ctx_->make_current();
   check_deposit(brush, ink);
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
-  SweepFrame cur = sweep_frame(brush, mesh_options(brush.model()), scene_.soak_expand * excess);
-  // continue the stroke from the last deposit, or start one
-  const bool continues = stroke_open_ && last_brush_ == &brush && last_.position.size() == cur.position.size();
-  const SweepPlan plan = plan_sweep(continues ? &last_ : nullptr, cur, ppm_, W_, H_);
-  stats.contact = plan.contact;
+  const std::vector<const Brush*> tufts = brush.tufts();
+  TuftSweeps t = plan_tufts(*this, tufts, last_, stroke_open_ && last_brush_ == &brush,
+                            scene_.soak_expand * excess);
+  stats.contact = t.contact;
   if (!stats.contact) {
     // the brush left the paper: the stroke ends here
     end_stroke();
     return stats;
   }
-  if (!continues) {
+  // continue the stroke from the last deposit, or start one; each tuft new to the stroke
+  // starts its own stroke frame
+  if (!t.swept[0]) {
     flush_stroke();
-    frame_->start();
     stats.new_stroke = true;
     stroke_rect_ = {0, 0, 0, 0};
   }
+  start_frames(t.swept);
   // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
   // (the sweep goes on from the last deposit)
   const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
   if (max_blend_ && stroke_pending_ && color != stroke_color_) flush_stroke();
   stroke_color_ = color;
-  stats.substeps = plan.blends;
-  stats.slides = std::max(plan.slides_prev, plan.slides_cur);
-  stats.rect = plan.rect;
-  stats.travel = plan.travel;
-  if (plan.draws()) draw_plan(plan, continues ? last_ : cur, cur, brush, ink, excess, stats);
+  plan_stats(t.plans, stats);
+  for (std::size_t k = 0; k < tufts.size(); ++k)
+    if (t.plans[k].draws())
+      draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, k, stats);
+  // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
+  if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
   stroke_open_ = true;
   last_brush_ = &brush;
-  last_ = std::move(cur);
+  last_ = std::move(t.cur);
   return stats;
 }
 
+void Paper::start_frames(const std::vector<bool>& swept) {
+  frames_.resize(std::max(frames_.size(), swept.size()));
+  for (std::size_t k = 0; k < swept.size(); ++k) {
+    if (!frames_[k]) frames_[k] = std::make_unique<StrokeFrame>();
+    if (!swept[k]) frames_[k]->start();
+  }
+}
+
 void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
-                      const Ink* ink, double excess, DepositStats& stats) {
+                      const Ink* ink, double excess, std::size_t k, DepositStats& stats) {
   FootprintInputs in;
   in.pressure = node_pressure(brush);
   in.wet.resize(in.pressure.size());
@@ -360,20 +409,22 @@ void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Sweep
   in.soak = cur.soak;
   in.soak_shift = scene_.soak_shift * excess;
   in.maps = {split_tex_, dry_tex_, grain_tex_, ramp_tex_};
+  in.seed = scene_.seed + static_cast<std::uint32_t>(k) * kTuftSeedStride;
+  StrokeFrame& frame = *frames_[k];
   const auto root = brush.skeleton();
-  frame_->advance(cur.placed, root(0, 0), root(0, 1));
-  in.frame = {static_cast<float>(frame_->cx), static_cast<float>(frame_->cy), static_cast<float>(frame_->dx),
-              static_cast<float>(frame_->dy)};
-  in.frame_s = frame_->s;
-  in.speed = frame_->speed;
+  frame.advance(cur.placed, root(0, 0), root(0, 1));
+  in.frame = {static_cast<float>(frame.cx), static_cast<float>(frame.cy), static_cast<float>(frame.dx),
+              static_cast<float>(frame.dy)};
+  in.frame_s = frame.s;
+  in.speed = frame.speed;
   program_->begin(plan, last, cur, in, ppm_);
   for_tiles(plan.rect, true, [&](PaperTile& t, int x, int y, int w, int h) {
     program_->draw(plan, LayerTile{t.layer_fbo, t.x0, t.y0, t.w, t.h, x, y, w, h});
   });
   program_->end();
   stats.drawn = true;
-  stats.pressure = std::move(in.pressure);
-  if (scene_.depletion) stats.deposited = layer_gain(plan.rect);
+  if (k == 0) stats.pressure = std::move(in.pressure);
+  if (scene_.depletion) stats.deposited += layer_gain(plan.rect);
   stroke_rect_ = unite(stroke_rect_, plan.rect);
   stroke_pending_ = true;
 }

@@ -1,6 +1,8 @@
 """Solver speed benchmark: the press-drag-turn-lift stroke with the seed's solver (BFGS at q_max 20)
 carrying its Hessian across frames and starting it afresh each frame, and with the shipped solver
-(the preset's q_max and Newton refresh).
+(the preset's q_max and Newton refresh).  With ``tufts`` (the seed's Table 1 rows for 1, 3 and
+5 six-segment tufts), the same stroke with the brush split into that many tufts (the main one and
+its children, sprouting on the first touch) at q_max 20, carried and fresh.
 
 Speeds are solved frames per second on one core: ``frames / sum(s.time)`` uses the core's own
 per-frame timing (no Python), and the wall-clock figure includes the Python loop around it.
@@ -30,11 +32,59 @@ def _one_run(model: BrushModel, poses) -> tuple[list, float]:
     return stats, time.perf_counter() - t0
 
 
-def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
+def _timed_row(m: BrushModel, poses, repeats: int) -> dict:
+    """The best of `repeats` replays of `poses` on model `m`: iterations, convergence and speed
+    (see run()); with child tufts also their mean iterations per sprouted child and frame."""
+    frames = len(poses)
+    best_core, best_wall, best_times, stats = math.inf, math.inf, None, None
+    # best of `repeats`: least summed core time, least wall time (each on its own)
+    for _ in range(repeats):
+        stats, wall = _one_run(m, poses)
+        times = np.array([s.time for s in stats], dtype=float)
+        core = float(times.sum())
+        if core < best_core:
+            best_core, best_times = core, times
+        best_wall = min(best_wall, wall)
+    children = sum(int(s.tufts_active) for s in stats)
+    return {
+        "warm_hessian": m.warm_hessian,
+        "q_max": m.q_max,
+        "newton_after": m.newton_after,
+        "mean_iterations": float(np.mean([int(s.iterations) for s in stats])),
+        "mean_child_iterations": sum(int(s.tuft_iterations) for s in stats) / children if children else 0.0,
+        "split_frac": sum(s.tufts_active > 0 for s in stats) / frames,
+        "converged_frac": sum(bool(s.converged) for s in stats) / frames,
+        "fps_core": frames / best_core if best_core > 0 else math.inf,
+        "fps_wall": frames / best_wall if best_wall > 0 else math.inf,
+        "p50_us": float(np.percentile(best_times, 50) * 1e6),
+        "p95_us": float(np.percentile(best_times, 95) * 1e6),
+        "core_seconds": best_core,
+        "wall_seconds": best_wall,
+    }
+
+
+def _tuft_rows(preset: str, frames: int, repeats: int, tufts: list[int]) -> list[dict]:
+    """Rows for each total tuft count k (1 main + k-1 children, sprout_spread 0: split from the
+    first touch to the lift), carried and fresh Hessian at q_max 20."""
+    rows = []
+    for k in tufts:
+        if not 1 <= k <= 9:
+            raise ValueError(f"tufts = {k}: a brush has 1 to 9 tufts (the main one and up to 8 children)")
+        for mode, overrides in MODES[:2]:
+            m = BrushModel.preset(preset)
+            for name, value in {**overrides, "tufts": k - 1, "sprout_spread": 0.0}.items():
+                setattr(m, name, value)
+            rows.append({"tufts": k, "mode": mode, **_timed_row(m, press_drag_turn_lift(m, frames=frames), repeats)})
+    return rows
+
+
+def run(preset: str = "medium", frames: int = 320, repeats: int = 5, tufts: list[int] | None = None) -> dict:
     """Time press_drag_turn_lift(frames) on `preset` with the seed's solver (q_max 20, BFGS without
     a Newton refresh), carried and fresh Hessian, and with the shipped solver.
 
     Returns {"preset", "frames", "repeats", "q_max", "rows": [one dict per mode], "iteration_ratio"}
+    and, with `tufts`, "tuft_rows": one dict per tuft count and mode (tufts: the main tuft and its
+    children; mean_child_iterations per sprouted child and frame; split_frac: frames split)
     where each row has mode, warm_hessian, q_max, newton_after, mean_iterations, converged_frac, fps_core (frames per
     second from the core's own timing), fps_wall (frames per second including the Python loop),
     p50_us and p95_us (per-frame core time in microseconds, from the run with the least core time).
@@ -51,35 +101,13 @@ def run(preset: str = "medium", frames: int = 320, repeats: int = 5) -> dict:
         m = BrushModel.preset(preset)
         for name, value in (overrides or {}).items():
             setattr(m, name, value)
-        poses = press_drag_turn_lift(m, frames=frames)
-        best_core, best_wall, best_times, iters, conv = math.inf, math.inf, None, None, None
-        # best of `repeats`: least summed core time, least wall time (each on its own)
-        for _ in range(repeats):
-            stats, wall = _one_run(m, poses)
-            times = np.array([s.time for s in stats], dtype=float)
-            core = float(times.sum())
-            if core < best_core:
-                best_core, best_times = core, times
-            best_wall = min(best_wall, wall)
-            iters = [int(s.iterations) for s in stats]
-            conv = sum(bool(s.converged) for s in stats) / len(stats)
-        rows.append({
-            "mode": mode,
-            "warm_hessian": m.warm_hessian,
-            "q_max": m.q_max,
-            "newton_after": m.newton_after,
-            "mean_iterations": float(np.mean(iters)),
-            "converged_frac": conv,
-            "fps_core": frames / best_core if best_core > 0 else math.inf,
-            "fps_wall": frames / best_wall if best_wall > 0 else math.inf,
-            "p50_us": float(np.percentile(best_times, 50) * 1e6),
-            "p95_us": float(np.percentile(best_times, 95) * 1e6),
-            "core_seconds": best_core,
-            "wall_seconds": best_wall,
-        })
+        rows.append({"mode": mode, **_timed_row(m, press_drag_turn_lift(m, frames=frames), repeats)})
     carried, fresh = rows[0]["mean_iterations"], rows[1]["mean_iterations"]
-    return {"preset": preset, "frames": frames, "repeats": repeats, "q_max": 20, "rows": rows,
-            "iteration_ratio": carried / fresh if fresh > 0 else math.nan}
+    result = {"preset": preset, "frames": frames, "repeats": repeats, "q_max": 20, "rows": rows,
+              "iteration_ratio": carried / fresh if fresh > 0 else math.nan}
+    if tufts:
+        result["tuft_rows"] = _tuft_rows(preset, frames, repeats, tufts)
+    return result
 
 
 def table(result: dict) -> str:
@@ -91,6 +119,13 @@ def table(result: dict) -> str:
                          "fps_wall", "p50_us", "p95_us"],
         ["mode", "q_max", "Newton after", "mean iterations", "converged", "frames/s (core)", "frames/s (wall)",
          "p50 µs", "p95 µs"])
-    return (text + f"\n\niterations carried/fresh: {format_value(result['iteration_ratio'])} "
-            f"at q_max 20 ({result['preset']}, {result['frames']} frames, "
-            f"best of {result['repeats']})")
+    text += (f"\n\niterations carried/fresh: {format_value(result['iteration_ratio'])} "
+             f"at q_max 20 ({result['preset']}, {result['frames']} frames, "
+             f"best of {result['repeats']})")
+    if result.get("tuft_rows"):
+        text += "\n\n" + markdown_table(
+            result["tuft_rows"], ["tufts", "mode", "mean_iterations", "mean_child_iterations", "split_frac",
+                                  "fps_core", "fps_wall", "p95_us"],
+            ["tufts", "Hessian", "mean q (main)", "mean q (child)", "split", "frames/s (core)", "frames/s (wall)",
+             "p95 µs"])
+    return text

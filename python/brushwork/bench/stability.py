@@ -54,7 +54,7 @@ class _Recorder:
         `first` marks the first frame from the straight state (a fresh or reset brush)."""
         self.frames += 1
         # non-finite: the spine or the energy
-        skel = np.asarray(brush.skeleton())
+        skel = np.concatenate(brush.tufts())  # every tuft's spine, a split brush's children too
         if not (np.all(np.isfinite(skel)) and math.isfinite(s.energy)):
             self.nonfinite += 1
         # penetration in mm and in tuft lengths (non-finite values are counted above, not here)
@@ -295,6 +295,31 @@ def _random(rec: _Recorder, scale: float, rng) -> None:
     rec.extra.update({"episodes": episodes, "resets": n_resets, "frames_per_episode": per})
 
 
+def _tufts_case(tufts: int) -> Callable:
+    """A brush split into `tufts` tufts (the main one and its children, sprouting at half the
+    default score): the press-drag-turn-lift stroke pressed 0.3 L, then random jumps of up to a
+    tuft length per frame (root 1.5 L below to 1.3 L above the paper, tilts 0..85 deg)."""
+    def case(rec: _Recorder, scale: float, rng) -> None:
+        m = _model()
+        m.tufts, m.sprout_spread = tufts - 1, 0.5
+        L = m.tuft_length
+        b = Brush(m)
+        split = 0
+        poses = press_drag_turn_lift(m, frames=_n(320, scale, least=50), press=0.3)
+        pos = np.array([0.0, 0.0, 1.3 * L])
+        for _ in range(_n(300, scale, least=20)):
+            pos = np.clip(pos + rng.uniform(-L, L, 3) / math.sqrt(3.0), [-5 * L, -5 * L, -1.5 * L],
+                          [5 * L, 5 * L, 1.3 * L])
+            poses.append(Pose(tuple(float(v) for v in pos), float(rng.uniform(0.0, 85.0)),
+                              float(rng.uniform(0.0, 360.0)), float(rng.uniform(-90.0, 90.0))))
+        for k, p in enumerate(poses):
+            s = b.step(p)
+            split += s.tufts_active > 0
+            rec.record(b, s, L, first=(k == 0))
+        rec.extra["split_frames"] = split
+    return case
+
+
 def _random_extreme(rec: _Recorder, scale: float, rng) -> None:
     """Random jumps of up to a whole tuft length per frame in any direction, the root from 1.5 L
     below the paper to 1.3 L above it, tilts 0..85 deg, any azimuth and twist: 1,500 frames (at
@@ -329,6 +354,8 @@ CASES: list[tuple[str, Callable]] = [
     ("1000 frames without motion", _still),
     ("random", _random),
     ("random extreme jumps", _random_extreme),
+    ("3 tufts", _tufts_case(3)),
+    ("5 tufts", _tufts_case(5)),
 ]
 
 

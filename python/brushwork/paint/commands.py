@@ -8,7 +8,7 @@ import os
 import sys
 import time
 
-from .session import MAX_PX
+from .session import MAX_PX, check_change
 
 
 def _aiohttp() -> None:
@@ -90,6 +90,8 @@ def replay(args: argparse.Namespace) -> int:
 def bench_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
     p.add_argument("--samples", type=int, default=300, help="pen samples of the measured stroke (default 300)")
+    p.add_argument("--tufts", type=int, nargs="+", default=[1], metavar="K",
+                   help="measure a brush of K tufts (the main one and its children), each K in turn (default 1)")
 
 
 def bench(args: argparse.Namespace) -> int:
@@ -101,7 +103,9 @@ def bench(args: argparse.Namespace) -> int:
         raise ValueError(f"--samples {args.samples}: expected 10..100000")
     if args.json:
         report.check_writable(args.json)
-    result = run(args.samples, progress=lambda m: print(f"  {m}", file=sys.stderr))
+    for k in args.tufts:
+        check_change({"tufts": k})
+    result = run(args.samples, progress=lambda m: print(f"  {m}", file=sys.stderr), tufts=args.tufts)
     print(table(result))
     if args.json:
         report.write_json(args.json, {"benchmark": "paint", **result})

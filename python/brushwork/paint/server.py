@@ -124,7 +124,7 @@ def _body(msg: dict) -> dict:
     if kind == "dip":
         return {"dip": [_num(msg, "ink", 0.0, 1.0, 1.0), _num(msg, "wetness", 0.0, 1.0, 1.0)]}
     if kind == "settings":
-        return {"change": check_change({k: msg[k] for k in ("preset", "scene") if k in msg})}
+        return {"change": check_change({k: msg[k] for k in ("preset", "tufts", "scene") if k in msg})}
     if kind not in ("up", "undo", "clear"):
         raise ValueError(f"unknown type {kind[:20]!r}")
     return {}
@@ -325,11 +325,12 @@ def _token_check(token: str | None):
 
 
 def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
-             log_path: str | None = None, px_per_mm: float = DEFAULT_PPM) -> web.Application:
-    """The app: a fresh painting `size` px (width, height) with the `preset` brush."""
+             log_path: str | None = None, px_per_mm: float = DEFAULT_PPM, tufts: int = 1) -> web.Application:
+    """The app: a fresh painting `size` px (width, height) with the `preset` brush of `tufts`
+    tufts (the main one and the children it may split into)."""
     w, h = size
     session = Session({"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
-                       "preset": preset, "scene": {"depletion": True}})
+                       "preset": preset, "tufts": tufts, "scene": {"depletion": True}})
     app = web.Application(middlewares=[_token_check(token)], client_max_size=MAX_FRAME)
     app[PAINTER] = Painter(session, log_path)
     app.router.add_get("/", _static)

@@ -28,6 +28,7 @@ UNDO_DEPTH = 20      # pen strokes undo remembers
 SCENE_FLAGS = ("split_map", "dry_map", "grain", "depletion")
 LOG_FORMAT = "brushwork-paint"
 MAX_PX = 8192        # px: largest side of a paper
+MAX_TUFTS = 9        # tufts of a brush: the main one and up to 8 children (BrushModel.tufts)
 
 Rect = tuple  # (x0, y0, x1, y1) px, y up, exclusive
 
@@ -39,31 +40,37 @@ def _number(value, name: str, lo: float, hi: float) -> float:
 
 
 def check_settings(s) -> dict:
-    """The settings of a painting, checked: {width_mm, height_mm, px_per_mm, preset, scene
-    (flag -> bool), ink (0..1 of a full dip), wetness (0..1)}."""
+    """The settings of a painting, checked: {width_mm, height_mm, px_per_mm, preset, tufts (1..9:
+    the main tuft and the children it may split into), scene (flag -> bool), ink (0..1 of a full
+    dip), wetness (0..1)}."""
     if not isinstance(s, dict):
         raise ValueError("settings: expected an object")
-    known = {"width_mm", "height_mm", "px_per_mm", "preset", "scene", "ink", "wetness"}
+    known = {"width_mm", "height_mm", "px_per_mm", "preset", "tufts", "scene", "ink", "wetness"}
     if set(s) - known:
         raise ValueError(f"settings: unknown field {sorted(set(s) - known)[0]!r}")
     out = {name: _number(s.get(name), name, 1.0, 10000.0) for name in ("width_mm", "height_mm")}
     out["px_per_mm"] = _number(s.get("px_per_mm"), "px_per_mm", 0.1, 100.0)
     if max(out["width_mm"], out["height_mm"]) * out["px_per_mm"] > MAX_PX + 0.5:
         raise ValueError(f"settings: the paper would be larger than {MAX_PX} px")
-    out.update(check_change({"preset": s.get("preset", "medium"), "scene": s.get("scene", {})}))
+    out.update(check_change({"preset": s.get("preset", "medium"), "tufts": s.get("tufts", 1),
+                             "scene": s.get("scene", {})}))
     out["ink"], out["wetness"] = (_number(s.get(k, 1.0), k, 0.0, 1.0) for k in ("ink", "wetness"))
     return out
 
 
 def check_change(c) -> dict:
-    """A change of brush preset and/or scene flags, checked."""
-    if not isinstance(c, dict) or set(c) - {"preset", "scene"}:
-        raise ValueError("settings change: expected an object with preset and/or scene")
+    """A change of brush preset, tuft count and/or scene flags, checked."""
+    if not isinstance(c, dict) or set(c) - {"preset", "tufts", "scene"}:
+        raise ValueError("settings change: expected an object with preset, tufts and/or scene")
     out = {}
     if "preset" in c:
         if c["preset"] not in BrushModel.presets():
             raise ValueError(f"preset {c['preset']!r}: choose from {', '.join(BrushModel.presets())}")
         out["preset"] = c["preset"]
+    if "tufts" in c:
+        if isinstance(c["tufts"], bool) or not isinstance(c["tufts"], int) or not 1 <= c["tufts"] <= MAX_TUFTS:
+            raise ValueError(f"tufts = {c['tufts']!r}: expected a whole number in 1..{MAX_TUFTS}")
+        out["tufts"] = c["tufts"]
     if "scene" in c:
         scene = c["scene"]
         if not isinstance(scene, dict) or set(scene) - set(SCENE_FLAGS) or \
@@ -124,13 +131,16 @@ class Session:
         self.undo_stack: list = []         # [(rect, (h, w, 4) float32 premultiplied RGBA before a pen stroke)]
         self._before = np.zeros((self.paper.height_px, self.paper.width_px, 4), np.float32)
         self.frames, self.sim_s = 0, 0.0   # simulated frames and their time (step + deposit), s
+        self.split_frames = 0              # frames the brush was split into several tufts
 
     # --- set-up
     def _scene(self) -> Scene:
         return Scene(**self.settings["scene"])
 
     def _new_brush(self) -> Brush:
-        brush = Brush(self.settings["preset"])
+        model = BrushModel.preset(self.settings["preset"])
+        model.tufts = self.settings.get("tufts", 1) - 1  # the children the main tuft may split into
+        brush = Brush(model)
         self.model = brush.model           # (a copy: its tuft length sets the root heights)
         self._dip(brush, self.settings["ink"], self.settings["wetness"])
         return brush
@@ -185,10 +195,11 @@ class Session:
         import time
 
         t0 = time.perf_counter()
-        self.brush.step(Pose(pose[:3], *pose[3:]))
+        split = self.brush.step(Pose(pose[:3], *pose[3:])).tufts_active > 0
         stats = self.paper.deposit(self.brush)
         self.sim_s += time.perf_counter() - t0
         self.frames += 1
+        self.split_frames += split
         self.last = pose
         return tuple(stats.rect) if stats.contact else None
 
@@ -267,7 +278,7 @@ class Session:
         """A new brush (preset) or a new paper with the picture carried over (scene flags)."""
         self._up()
         self.settings.update(change)
-        if "preset" in change:
+        if "preset" in change or "tufts" in change:
             self.brush = self._new_brush()
         if "scene" in change:
             rgba = self.paper.rgba()

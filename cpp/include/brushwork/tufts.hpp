@@ -1,0 +1,33 @@
+// Multiple tufts in a hierarchy (seed "Simulation with multiple tufts", Figure 6): child tuft T_j
+// hangs from spine node N_i of its parent, its root on N_i's joint-bisecting plane inside the
+// elliptic section Omega_ij at the lateral displacement r_j = (r_xj, r_yj), normalised by the
+// section's major and minor radii.  Each child is one more (Tuft, BrushState) stepped by the same
+// step() after its parent, with a pose made from the parent's frame at N_i; the parent and its
+// children may intersect.
+#pragma once
+
+#include "brushwork/step.hpp"
+
+namespace brushwork {
+
+// the parent's sprouting score below N_i (seed: "simple heuristics on the parent tuft's
+// friction, bend angles, and wetness"): the mean fractional spread (a_i + b_i) / 2r_i - 1 of
+// the sections N_i..N_{n-1}, plus a quarter of the bend of the joints below N_i in quarter
+// turns, both grown by dryness (1 + 1 - mean wetness); friction enters as the caller's
+// contact test
+double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int node);
+
+// r_j of child j of k (|r_j| < 1): spread along the major axis (the lateral line, where the
+// displaced lateral nodes pull the hairs out) with a small fixed offset along the minor axis
+Vec2 child_displacement(int j, int k);
+
+// the pose that puts a child's root at r on N_i's bisecting plane with its root frame the
+// parent's segment frame F_{i-1} (so equal bend and turn angles continue the parent's spine),
+// leaned out toward its side of the lateral line in proportion to r_x (a fan, Figure 6b)
+Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r);
+
+// a new child's degrees of freedom: the parent's bend, turn and lateral-line angles below N_i
+// (seed: "the system initially assigns it the same bend and turn angles"), unstretched
+void seed_child(const Tuft& parent, const BrushState& ps, int node, const Tuft& child, BrushState& cs);
+
+}  // namespace brushwork

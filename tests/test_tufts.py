@@ -1,0 +1,201 @@
+"""Multiple tufts (seed "Simulation with multiple tufts", Figure 6): child tufts sprout from a
+parent node of the main tuft when it spreads, merge when it lifts, and deposit their own streaks."""
+import numpy as np
+import pytest
+
+import brushwork as bw
+from brushwork.recorded import along_path
+from tolerances import PENETRATION_FRAC
+
+PRESS_Z = (35, 30, 28, 26, 24, 22, 20, 18, 16)  # mm: the root lowered step by step (L = 30 mm)
+LIFT_Z = (20, 25, 30, 35)
+TILT = 20.0
+
+
+def model(tufts=3, **fields):
+    m = bw.BrushModel.preset("medium")
+    m.tufts = tufts
+    for name, value in fields.items():
+        setattr(m, name, value)
+    return m
+
+
+def press(brush, heights=PRESS_Z, frames=3):
+    """Lower (or raise) the root through `heights`, `frames` steps at each; the last stats."""
+    for z in heights:
+        for _ in range(frames):
+            st = brush.step(bw.Pose((0.0, 0.0, z), TILT))
+    return st
+
+
+def test_children_leave_the_main_tuft_as_a_single_tuft_solves_it():
+    # the children are solved after their parent, so the main tuft moves bit for bit as a
+    # brush without tufts does (tufts = 0, the default, is that brush)
+    single, split = bw.Brush(model(0)), bw.Brush(model(3))
+    for z in PRESS_Z + LIFT_Z:
+        a, b = single.step(bw.Pose((0.0, 0.0, z), TILT)), split.step(bw.Pose((0.0, 0.0, z), TILT))
+        assert a.tufts_active == 0 and len(single.tufts()) == 1
+        assert np.array_equal(single.skeleton(), split.skeleton()), f"z = {z}"
+        assert a.iterations == b.iterations
+    assert bw.BrushModel.preset("medium").tufts == 0
+
+
+def test_pressing_sprouts_children_and_lifting_merges_them():
+    brush = bw.Brush(model(3))
+    st = press(brush, PRESS_Z[:3])
+    assert st.contacts > 0 and st.tufts_active == 0, "a light touch keeps one tuft"
+    st = press(brush, PRESS_Z[3:])
+    # sprouted at sprout_spread, split while the score stays above half of it
+    assert st.sprout_score >= 0.5 * brush.model.sprout_spread
+    assert st.tufts_active == 3 and brush.tufts_active == 3
+    assert st.tuft_iterations > 0
+    spines = brush.tufts()
+    assert len(spines) == 4
+    n, node = brush.model.n_segments, brush.model.tuft_node
+    assert all(s.shape == (n - node + 1, 3) for s in spines[1:]), "a child is the spine below N_i"
+    st = press(brush, LIFT_Z)
+    assert st.tufts_active == 0 and len(brush.tufts()) == 1
+    # and the children come back on the next press
+    assert press(brush).tufts_active == 3
+    brush.reset()
+    assert brush.tufts_active == 0
+
+
+def test_each_child_root_lies_in_its_parent_section():
+    brush = bw.Brush(model(5))
+    press(brush)
+    node = brush.model.tuft_node
+    sec = brush.sections_array()[node]  # center u w n a_plus a_minus c
+    origin = brush.skeleton()[node]     # O_ij: the section about the spine node
+    u, w, nrm, a_plus, a_minus, c = sec[3:6], sec[6:9], sec[9:12], sec[12], sec[13], sec[14]
+    roots = [s[0] for s in brush.tufts()[1:]]
+    assert len(roots) == 5
+    for j, root in enumerate(roots):
+        d = root - origin
+        assert abs(d @ nrm) < 1e-9 * brush.model.tuft_length, f"child {j} off the bisecting plane"
+        x = d @ u / (a_plus if d @ u >= 0 else a_minus)
+        y = d @ w / c
+        assert x * x + y * y < 1.0, f"child {j}: r_j = ({x:.3f}, {y:.3f}) outside Omega_ij"
+    # they spread across the section, not on one spot
+    xs = sorted((r - origin) @ u for r in roots)
+    assert xs[0] < 0 < xs[-1]
+
+
+def test_state_restore_repeats_a_split_step_bit_for_bit():
+    brush = bw.Brush(model(3))
+    press(brush)
+    assert brush.tufts_active == 3
+    saved = brush.state()
+    assert saved.tufts_active == 3
+    poses = [bw.Pose((0.3 * k, 0.0, 16.0), TILT) for k in range(1, 6)]
+
+    def run():
+        out = []
+        for p in poses:
+            st = brush.step(p)
+            out.append((st.iterations, st.tuft_iterations, [s.copy() for s in brush.tufts()]))
+        return out
+
+    first = run()
+    brush.set_state(saved)
+    again = run()
+    for k, (a, b) in enumerate(zip(first, again)):
+        assert a[:2] == b[:2], f"frame {k}: iterations differ"
+        assert len(a[2]) == len(b[2])
+        for t, (sa, sb) in enumerate(zip(a[2], b[2])):
+            assert np.array_equal(sa, sb), f"frame {k}, tuft {t} differs"
+    twin = brush.copy()
+    p = bw.Pose((2.0, 0.0, 16.5), TILT)
+    brush.step(p), twin.step(p)
+    assert all(np.array_equal(a, b) for a, b in zip(brush.tufts(), twin.tufts()))
+
+
+def test_a_state_for_another_tuft_count_is_refused():
+    three, one = bw.Brush(model(3)), bw.Brush(model(1))
+    with pytest.raises(ValueError, match="child tufts"):
+        one.set_state(three.state())
+
+
+def test_a_parent_node_past_the_tip_is_refused():
+    with pytest.raises(ValueError, match="tuft_node"):
+        bw.Brush(model(3, tuft_node=6))
+
+
+def test_footprint_has_one_polygon_per_touching_tuft():
+    brush = bw.Brush(model(3))
+    st = press(brush)
+    assert st.tufts_active == 3
+    touching = 1 + sum(s[:, 2].min() < 0.05 for s in brush.tufts()[1:])
+    assert touching == 4, "every child's tip lies on the paper"
+    assert len(brush.own_footprint()) == 1
+    assert len(brush.footprint()) == touching
+    assert st.max_penetration < PENETRATION_FRAC * brush.model.tuft_length
+
+
+def ink_runs(ink, rows):
+    """Most separate runs of inked pixels across the stroke along `rows` of the ink image."""
+    runs = []
+    for r in rows:
+        on = ink[r] > 0.3
+        runs.append(int(on[0]) + int(np.sum(on[1:] & ~on[:-1])))
+    return max(runs)
+
+
+def stroke_ink(tufts):
+    # a moderately pressed pull: the part below N_i touches, the tufts trail the root
+    m = model(tufts, sprout_spread=0.5)
+    brush = bw.Brush(m)
+    brush.load_ink()
+    paper = bw.Paper(40, 50, 5)
+    pts = np.array([[20.0, 8.0], [20.0, 44.0]])
+    press_ = np.array([0.0, 0.2, 0.2, 0.2, 0.2, 0.0])
+    path = np.linspace(pts[0], pts[1], 6)
+    split = 0
+    for pose in along_path(m, path, press_, TILT, None, step_mm=0.5):
+        split = max(split, brush.step(pose).tufts_active)
+        paper.deposit(brush)
+    paper.end_stroke()
+    return paper.ink(), split
+
+
+def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
+    single, _ = stroke_ink(0)
+    split, active = stroke_ink(5)
+    assert active == 5
+    rows = range(int(0.45 * single.shape[0]), int(0.75 * single.shape[0]), 5)  # y 12.5 .. 27.5 mm
+    assert ink_runs(single, rows) == 1, "one tuft draws one stroke"
+    assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
+    # and still ink where the main tuft's core passes
+    assert split.sum() > 0.3 * single.sum()
+
+
+def test_bench_solver_times_each_tuft_count(tmp_path, capsys):
+    import json
+
+    from brushwork import cli
+
+    out = tmp_path / "solver.json"
+    assert cli.main(["bench", "solver", "--tufts", "1", "3", "--frames", "60", "--repeats", "1",
+                     "--json", str(out)]) == 0
+    rows = {(r["tufts"], r["mode"]): r for r in json.loads(out.read_text())["tuft_rows"]}
+    assert set(rows) == {(1, "carried"), (1, "fresh"), (3, "carried"), (3, "fresh")}
+    assert rows[1, "carried"]["split_frac"] == 0 and rows[1, "carried"]["mean_child_iterations"] == 0
+    assert rows[3, "carried"]["split_frac"] > 0 and rows[3, "carried"]["mean_child_iterations"] > 0
+    # the carried Hessian saves iterations for the children as for the main tuft (seed Table 1)
+    assert rows[3, "carried"]["mean_child_iterations"] < rows[3, "fresh"]["mean_child_iterations"]
+    assert "mean q (child)" in capsys.readouterr().out
+    assert cli.main(["bench", "solver", "--tufts", "0", "--frames", "60", "--repeats", "1"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "tufts" in err[0]
+
+
+def test_paint_settings_take_a_tuft_count():
+    from brushwork.paint.session import Session, check_change
+
+    session = Session({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0, "tufts": 3})
+    assert session.brush.model.tufts == 2, "three tufts: the main one and two children"
+    assert Session({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0}).brush.model.tufts == 0
+    assert check_change({"tufts": 5}) == {"tufts": 5}
+    for bad in (0, 10, 2.5, True, "3"):
+        with pytest.raises(ValueError, match="tufts"):
+            check_change({"tufts": bad})
