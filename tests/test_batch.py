@@ -744,6 +744,25 @@ def test_the_driver_moves_the_brush_alike_at_any_resolution():
     np.testing.assert_array_equal(small, large)
 
 
+@pytest.mark.parametrize("points, kind", [([[0.15, 0.5], [0.85, 0.5]], "㇐"), ([[0.5, 0.85], [0.5, 0.15]], "㇑")])
+def test_a_straight_strokes_sides_stay_straight_at_the_pixel(points, kind):
+    """The copies of the footprint swept between two frames lie close enough that the sides of a
+    straight stroke are straight lines of pixels: along its middle the ink mask's edge row (or
+    column) moves between neighbouring pixels only where the stroke's width changes, not one
+    pixel in two (the comb of a footprint's widest point stepped along the sides)."""
+    from brushwork.glyphs.model import Glyph, Stroke
+
+    glyph = Glyph("x", 0x78, [Stroke(np.array(points, float), kind)], "test", (0.0, 0.0, 1.0, 1.0))
+    ink = render_glyph(glyph, 512).ink() > 0.5
+    if kind == "㇑":
+        ink = ink.T                                          # the sides as rows of a horizontal stroke
+    body = ink[:, 130:380]                                   # px: the middle of the stroke, ends left out
+    rows = np.arange(ink.shape[0])[:, None]
+    for side in (np.where(body, rows, ink.shape[0]).min(axis=0), np.where(body, rows, -1).max(axis=0)):
+        assert side.min() >= 0 and side.max() < ink.shape[0]
+        assert np.mean(np.diff(side) != 0) < 0.15, side
+
+
 def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):
     """`brushwork params --style | head -1`: the reader has left; no error line, exit 0."""
     import sys
