@@ -320,7 +320,8 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   SweepFrame cur = sweep_frame(brush, mesh_options(brush.model()), scene_.soak_expand * excess);
   // continue the stroke from the last deposit, or start one
   const bool continues = stroke_open_ && last_brush_ == &brush && last_.position.size() == cur.position.size();
-  const SweepPlan plan = plan_sweep(continues ? &last_ : nullptr, cur, ppm_, W_, H_);
+  const SweepPlan plan = plan_sweep(continues ? &last_ : nullptr, cur, ppm_, W_, H_,
+                                    scene_.split_map || scene_.dry_map || scene_.grain);
   stats.contact = plan.contact;
   if (!stats.contact) {
     // the brush left the paper: the stroke ends here
