@@ -305,10 +305,11 @@ void count_copies(SweepPlan& plan, const std::vector<double>& pp, const std::vec
   // kBlendPx: the footprint is no disc but a rounded polygon, and a corner moved in steps of d
   // leaves a staircase up to d/2 deep along an edge slanted to the move (with the disc rule
   // alone, 6 px steps on a 45-degree stroke left 3 px saw teeth at 1024 px), and its widest
-  // point a ripple of period d along the stroke's sides: at 2.5 px the rim pixels of a straight
-  // stroke were inked by one copy in two, a 1-px comb after the mask's 0.5 threshold; under a
-  // pixel every column along a side meets a copy's widest point and the sides stay straight (`bench glyphs` at 512 px, excess edge roughness 0.105 px against
-  // 0.125 px), for ~45% more CPU a kai character at 1024 px.  A textured deposit keeps
+  // point a ripple of period d along the stroke's sides: copies 2.5 px apart ink the rim pixels
+  // of a straight stroke one column in two, a 1-px comb after the mask's 0.5 threshold; under a
+  // pixel every column along a side meets a copy's widest point and the sides stay straight
+  // (`bench glyphs` at 512 px, excess edge roughness: 0.105 px, with 2.5 px 0.125 px), for
+  // ~40% more CPU a kai character at 1024 px.  A textured deposit keeps
   // kTexturedBlendPx: each copy takes its maps' coverage and the densest wins, so denser copies
   // fill the dry streaks and the grain, and the maps break its edges anyway
   const double cap = textured ? kTexturedBlendPx : kBlendPx;
