@@ -711,7 +711,8 @@ def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
     loops' (their mean square edge error, _Log.error), and a rehearsal leaves no ink."""
     from brushwork.writing import writing_paper
 
-    planned = replace(Style.load("kai"), plan_passes=3)
+    # (the strokes aimed as the medians say, free ends and joined ends alike: join_reach_em off)
+    planned = replace(Style.load("kai"), plan_passes=3, join_reach_em=None)
     errors, rehearse = [], Writer._rehearse
 
     def measured(self, aim, *rest):
@@ -765,6 +766,48 @@ def test_the_driver_moves_the_brush_alike_at_any_resolution():
     small, large = _poses_written(dry, 64), _poses_written(dry, 256)
     assert small.shape == large.shape and len(small) > 100
     np.testing.assert_array_equal(small, large)
+
+
+@pytest.mark.parametrize("points, kind", [([[0.15, 0.5], [0.85, 0.5]], "㇐"), ([[0.5, 0.85], [0.5, 0.15]], "㇑")])
+def test_a_straight_strokes_sides_stay_straight_at_the_pixel(points, kind):
+    """The copies of the footprint swept between two frames lie close enough that the sides of a
+    straight stroke are straight lines of pixels: along its middle the ink mask's edge row (or
+    column) moves between neighbouring pixels only where the stroke's width changes, not one
+    pixel in two (the comb of a footprint's widest point stepped along the sides)."""
+    from brushwork.glyphs.model import Glyph, Stroke
+
+    glyph = Glyph("x", 0x78, [Stroke(np.array(points, float), kind)], "test", (0.0, 0.0, 1.0, 1.0))
+    ink = render_glyph(glyph, 512).ink() > 0.5
+    if kind == "㇑":
+        ink = ink.T                                          # the sides as rows of a horizontal stroke
+    body = ink[:, 130:380]                                   # px: the middle of the stroke, ends left out
+    rows = np.arange(ink.shape[0])[:, None]
+    for side in (np.where(body, rows, ink.shape[0]).min(axis=0), np.where(body, rows, -1).max(axis=0)):
+        assert side.min() >= 0 and side.max() < ink.shape[0]
+        assert np.mean(np.diff(side) != 0) < 0.15, side
+
+
+def test_a_stroke_that_starts_on_another_starts_in_its_ink():
+    """joins finds the ends of a stroke that lie on another stroke (near its centreline: a
+    vertical hung from a crossbar, its start; a free end: neither), and the writer lets such an end reach into
+    the other stroke's ink (join_reach_em) where the style keeps free ends inside the median:
+    the two strokes are one piece of ink, as the font's outlines are."""
+    from brushwork.glyphs.model import Glyph, Stroke
+    from brushwork.glyphs.score import pieces
+    from brushwork.writing.driver import joins
+
+    # mm: a crossbar and a vertical whose centreline starts 4 mm under the bar's, at its edge
+    bar, hung = np.array([[20.0, 70.0], [80.0, 70.0]]), np.array([[50.0, 66.0], [50.0, 20.0]])
+    assert joins([bar, hung], 1, 5.0) == (True, False)
+    assert joins([bar, hung + [0.0, -2.0]], 1, 5.0) == (False, False)
+    assert joins([bar, hung], 0, 5.0) == (False, False)         # the bar's ends are free
+    glyph = Glyph("x", 0x78, [Stroke(bar / 100.0, "㇐"), Stroke(hung / 100.0, "㇑")], "test", (0.0, 0.0, 1.0, 1.0))
+    kai = Style.load("kai")
+    assert kai.join_reach_em is not None and kai.join_reach_em > (kai.start_reach_em or 0.0)
+    ink = {r: render_glyph(glyph, 256, replace(kai, join_reach_em=r)).ink() > 0.5 for r in (None, kai.join_reach_em)}
+    one = np.ones((256, 256), bool)
+    assert pieces(ink[kai.join_reach_em], one)[0] == 0                # one piece
+    assert pieces(ink[None], one)[0] == 1                             # kept inside the median: apart
 
 
 def test_a_closed_pipe_ends_quietly(monkeypatch, capsys):

@@ -63,8 +63,9 @@ struct PartCentre {
 PartCentre part_centre(const std::vector<double>& placed);  // placed: (V, 3) mm
 
 // the plan from `last` (null: a stroke starts at `cur`) to `cur`, both of one mesh, on a paper of
-// `width_px` x `height_px` px sampled at `px_per_mm`
+// `width_px` x `height_px` px sampled at `px_per_mm`; `textured`: the deposit draws the split,
+// dry or grain map (its blends are spaced wider, see count_copies)
 SweepPlan plan_sweep(const SweepFrame* last, const SweepFrame& cur, double px_per_mm, int width_px,
-                     int height_px);
+                     int height_px, bool textured = false);
 
 }  // namespace brushwork

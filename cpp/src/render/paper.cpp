@@ -333,7 +333,8 @@ TuftSweeps plan_tufts(const Paper& paper, const std::vector<const Brush*>& tufts
     t.cur.push_back(sweep_frame(*tufts[k], paper.mesh_options(tufts[k]->model()), soak));
     t.swept.push_back(same && k < last.size() && last[k].position.size() == t.cur[k].position.size());
     t.plans.push_back(plan_sweep(t.swept[k] ? &last[k] : nullptr, t.cur[k], paper.px_per_mm(),
-                                 paper.width_px(), paper.height_px()));
+                                 paper.width_px(), paper.height_px(),
+                                 paper.scene().split_map || paper.scene().dry_map || paper.scene().grain));
     t.contact = t.contact || t.plans[k].contact;
   }
   return t;

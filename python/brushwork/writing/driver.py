@@ -156,14 +156,16 @@ class Writer:
             rel = (width_target - width) / max(width_target, 1e-3)
             self.press = float(_clip(self.press + st.width_gain * rel, 0.0, PRESS_MAX))
 
-    def write_stroke(self, points_mm: np.ndarray, kind: str) -> None:
+    def write_stroke(self, points_mm: np.ndarray, kind: str, joined: tuple = (False, False)) -> None:
+        """One stroke along its centreline `points_mm` ((k, 2) mm) of stroke type `kind`; `joined`:
+        whether its start and its end lie on another stroke of the character (see joins)."""
         st = self.style
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
         self.widths = []
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
-        aim = _Aim(st, path, s, width)
+        aim = _Aim(st, path, s, width, joined)
         # 出锋: near the end of a tapering stroke the press only eases. The footprint does not
         # thin with the press: the spread belly keeps its width, then leaves the paper within a
         # frame or two and only the tip touches. A loop free to press again brought the belly
@@ -321,12 +323,31 @@ class Writer:
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
         self.density = st.density(len(glyph.strokes))
-        for stroke in glyph.strokes:
-            pts = o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
+        medians = [o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
+                   for stroke in glyph.strokes]
+        for k, (stroke, pts) in enumerate(zip(glyph.strokes, medians)):
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
             h0 = math.atan2(d0[1], d0[0])
             self.travel(pts[0], h0)
-            self.write_stroke(pts, stroke.kind)
+            self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))
+
+
+def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
+    """Whether stroke k's start and end lie on another stroke: within `near_mm` of another
+    centreline of `medians` (a list of (m, 2) mm polylines), as where a stroke hangs from a
+    crossbar or closes a box, the font's outlines touching there."""
+    others = [m for i, m in enumerate(medians) if i != k]
+    return tuple(any(_distance_to_polyline(p, m) < near_mm for m in others) for p in (medians[k][0], medians[k][-1]))
+
+
+def _distance_to_polyline(p: np.ndarray, line: np.ndarray) -> float:
+    """mm from the point p (2,) to the polyline `line` (m, 2) mm."""
+    if len(line) == 1:
+        return float(np.hypot(*(p - line[0])))
+    a, b = line[:-1], line[1:]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))
 
 
 class _Aim:
@@ -335,10 +356,18 @@ class _Aim:
     a width unless the style says): its centre's arc length is held within
     [behind - reach, length + reach - ahead]."""
 
-    def __init__(self, st: Style, path: np.ndarray, s: np.ndarray, width: np.ndarray):
+    def __init__(self, st: Style, path: np.ndarray, s: np.ndarray, width: np.ndarray,
+                 joined: tuple = (False, False)):
         self.st, self.path, self.s, self.width = st, path, s, width
         self.length = max(s[-1], 1e-6)
         self.start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
+        self.end_reach = st.end_reach_em
+        # an end that lies on another stroke reaches into that stroke's ink (join_reach_em)
+        if st.join_reach_em is not None:
+            if joined[0]:
+                self.start_reach = max(self.start_reach if self.start_reach is not None else -1.0, st.join_reach_em)
+            if joined[1]:
+                self.end_reach = max(self.end_reach if self.end_reach is not None else -1.0, st.join_reach_em)
 
     def _reach(self, r_em: float | None, j: int) -> float:
         return 0.5 * self.width[j] if r_em is None else r_em * self.st.em_mm
@@ -347,7 +376,7 @@ class _Aim:
         """The point (2,) mm the footprint's centre aims at on frame j, given how far the
         writer's footprint reaches behind and ahead of its centre."""
         lo = writer.behind - self._reach(self.start_reach, j)
-        hi = self.length + self._reach(self.st.end_reach_em, j) - writer.ahead
+        hi = self.length + self._reach(self.end_reach, j) - writer.ahead
         sj = 0.5 * (lo + hi) if lo > hi else float(_clip(self.s[j], lo, hi))
         sj = float(_clip(sj, 0.0, self.length))
         return np.array([np.interp(sj, self.s, self.path[:, 0]), np.interp(sj, self.s, self.path[:, 1])])

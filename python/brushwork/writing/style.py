@@ -88,6 +88,8 @@ FIELDS: tuple[StyleField, ...] = (
     _F("end_reach_em", "float?", "em", -0.5, 0.5, None,
        "how far the footprint may reach past a median's end (null: half the stroke's width)"),
     _F("start_reach_em", "float?", "em", -0.5, 0.5, None, "the same before its start (null: as end_reach_em)"),
+    _F("join_reach_em", "float?", "em", -0.5, 0.5, None,
+       "the same at an end that lies on another stroke (within width_em of its centreline; null: no different)"),
     _F("taper_from", "float?", "median", 0.0, 1.0, None,
        "出锋 exits (撇, 提, 捺, hooks): from this fraction of the median on the press only eases (null: off)"),
     _F("taper_collapse", "float", "width", 0.0, 1.0, 0.5,
