@@ -112,12 +112,12 @@ def test_freetype_draws_what_the_brush_drew(fonts, renders, ext):
 
 
 def test_a_tight_tolerance_reproduces_the_render(tmp_path, renders):
-    """Fitted within 0.2 px, FreeType's 512 px raster of each glyph matches the brush's 512 px
-    render to IoU 0.99."""
+    """Fitted within 0.05 px on average (0.2 px at most), FreeType's 512 px raster of each glyph
+    matches the brush's 512 px render to IoU 0.99."""
     from brushwork.font.check import glyph_fidelity
 
     path = tmp_path / "tight.otf"
-    build_font(SIMPLE, path, tolerance=0.2)
+    build_font(SIMPLE, path, tolerance=0.05)
     for c in SIMPLE:
         assert glyph_fidelity(path, c, renders[c], Em())["iou"] >= 0.99, c
 
@@ -253,8 +253,10 @@ def _glyph_area(path, char):
 def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp_path, how):
     """When skia-pathops gives up on a glyph or returns other ink, the font is still written,
     with that glyph's contours as traced (apart, outer ones counter-clockwise for CFF): the same
-    ink."""
+    ink, within the share of it that build accepts a union to change."""
     import pathops
+
+    from brushwork.font.build import SIMPLIFY_AREA_TOL
 
     build_font("十", tmp_path / "a.otf")
 
@@ -266,4 +268,4 @@ def test_a_glyph_skia_cannot_simplify_keeps_its_traced_contours(monkeypatch, tmp
     monkeypatch.setattr(pathops, "simplify", fail)
     build_font("十", tmp_path / "b.otf")
     a, b = _glyph_area(tmp_path / "a.otf", "十"), _glyph_area(tmp_path / "b.otf", "十")
-    assert a > 0 and b == pytest.approx(a, rel=1e-3)
+    assert a > 0 and b == pytest.approx(a, rel=SIMPLIFY_AREA_TOL)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 UPSAMPLE = 4           # sub-pixels per image pixel along each axis the contour follower sees
-MIN_AREA_PX = 0.5      # px^2: specks of ink (or holes) smaller than this are dropped
+MIN_AREA_PX = 1.0      # px^2: specks of ink (or pinholes) traced smaller than a pixel are dropped
 SMOOTH_PX = 1.0        # px: the widest Gaussian smoothing along a contour (takes out the steps and finest facets)
 SPACING_PX = 0.5       # px between the points of a traced contour
 
