@@ -15,6 +15,8 @@ CORNER_DEG = 55.0      # a turn sharper than this over CORNER_REACH is a corner
 CORNER_REACH = 1.5     # contour units each side of a point over which its turn is measured
 NEWTON_STEPS = 4       # reparametrisations tried before a piece is split
 MAX_RATIO = 4.0        # the farthest any point may lie from its curve, in tolerances
+LOOP_RATIO = 1.25      # a curve longer than this many times its piece of edge (plus LOOP_SLACK) loops or overshoots
+LOOP_SLACK = 0.5       # contour units
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -71,10 +73,19 @@ def _newton(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
 def _worst(c: np.ndarray, p: np.ndarray, u: np.ndarray, tol: float) -> tuple:
     """(error of the curve c through p at parameters u in tolerances, index of the farthest
     point): the larger of the mean distance over tol and the largest over MAX_RATIO * tol, so
-    that the piece fits when the error is at most 1."""
+    that the piece fits when the error is at most 1; infinite when the curve loops."""
     d = np.linalg.norm(_bezier(c, u) - p, axis=1)
     i = int(np.argmax(d))
+    # a loop between two points' parameters escapes their distances: the curve's length shows it
+    drawn = _bezier(c, np.linspace(0.0, 1.0, 33))
+    if _length(drawn) > LOOP_RATIO * _length(p) + LOOP_SLACK:
+        return np.inf, i
     return max(float(np.mean(d)), float(d[i]) / MAX_RATIO) / tol, i
+
+
+def _length(p: np.ndarray) -> float:
+    """Length of the open polyline p (n, 2)."""
+    return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
 def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float) -> list:
