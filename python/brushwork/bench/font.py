@@ -61,7 +61,7 @@ def _ttf_points(path: str) -> float:
 
 
 def _trade_row(tol: float, renders: dict, em: Em, folder: str) -> dict:
-    """The renders fitted within tol px: points, extrapolated OTF size and fidelity."""
+    """The renders fitted within tol px on average: points, extrapolated OTF size and fidelity."""
     from ..font.build import write_font
 
     t0 = time.perf_counter()
@@ -162,7 +162,7 @@ def iou_vs_points(r: dict) -> str:
 def table(r: dict) -> str:
     t = TARGETS
     lines = [f"bench font: {r['characters']} GB2312 characters, {r['jobs']} jobs ({r['executor']}), traced at "
-             f"{r['size_px']} px, fitted within {r['tolerance_px']} px",
+             f"{r['size_px']} px, fitted within {r['tolerance_px']} px on average",
              f"  median points a glyph: {r['points_median']:.0f} cubic (OTF), {r['ttf_points_median']:.0f} "
              f"quadratic (TTF)   (target <= {t['points']})",
              f"  OTF size for 6,763 glyphs: {r['otf_mb_gb2312']:.1f} MB   (target <= {t['otf_mb']} MB)",
