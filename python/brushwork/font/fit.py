@@ -17,6 +17,7 @@ NEWTON_STEPS = 4       # reparametrisations tried before a piece is split
 MAX_RATIO = 4.0        # the farthest any point may lie from its curve, in tolerances
 LOOP_RATIO = 1.25      # a curve longer than this many times its piece of edge (plus LOOP_SLACK) loops or overshoots
 LOOP_SLACK = 0.5       # contour units
+LOOP_U = np.linspace(0.0, 1.0, 33)   # the parameters at which a curve's length is measured
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -27,8 +28,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
 def _bezier(c: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Points (n, 2) of the cubic c (4, 2) at parameters u (n,)."""
     s = 1.0 - u
-    return np.outer(s * s * s, c[0]) + np.outer(3 * s * s * u, c[1]) + np.outer(3 * s * u * u, c[2]) \
-        + np.outer(u * u * u, c[3])
+    return np.stack([s * s * s, 3 * s * s * u, 3 * s * u * u, u * u * u], axis=1) @ c
 
 
 def _chord_params(p: np.ndarray) -> np.ndarray:
@@ -76,11 +76,11 @@ def _worst(c: np.ndarray, p: np.ndarray, u: np.ndarray, tol: float) -> tuple:
     that the piece fits when the error is at most 1; infinite when the curve loops."""
     d = np.linalg.norm(_bezier(c, u) - p, axis=1)
     i = int(np.argmax(d))
+    err = max(float(np.mean(d)), float(d[i]) / MAX_RATIO) / tol
     # a loop between two points' parameters escapes their distances: the curve's length shows it
-    drawn = _bezier(c, np.linspace(0.0, 1.0, 33))
-    if _length(drawn) > LOOP_RATIO * _length(p) + LOOP_SLACK:
+    if err <= 1.0 and _length(_bezier(c, LOOP_U)) > LOOP_RATIO * _length(p) + LOOP_SLACK:
         return np.inf, i
-    return max(float(np.mean(d)), float(d[i]) / MAX_RATIO) / tol, i
+    return err, i
 
 
 def _length(p: np.ndarray) -> float:
