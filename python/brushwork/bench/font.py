@@ -2,7 +2,9 @@
 builds it, then measured: points per glyph, the OTF's size and the build time extrapolated to
 GB2312's 6,763 glyphs, and FreeType's 512 px raster of each glyph against the brush's 512 px
 render (IoU, and the outline's 90th-percentile distance from the ink's edge); then the same
-renders fitted at other tolerances, the trade between points and fidelity."""
+renders fitted at other tolerances, the trade between points and fidelity, and the ceiling of
+that trade: the traced edge before any fitting, filled by area coverage as FreeType fills an
+outline, against the render's pixels thresholded at half coverage."""
 from __future__ import annotations
 
 import os
@@ -13,9 +15,11 @@ import numpy as np
 
 from .. import batch as bt
 from ..font.outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
+from ..font.trace import SMOOTH_PX
 from .report import markdown_table
 
-TOLERANCES = (0.25, 0.5, 1.0, 2.0, 4.0)     # px of the 512 px render: the trade-off table's rows
+TOLERANCES = (0.1, 0.25, 0.5, 1.0, 2.0, 2.5)     # px of the 512 px render: the trade-off table's rows
+FILL_SUPERSAMPLE = 8     # sub-pixels per pixel along each axis the ceiling's edge is filled at
 TARGETS = {"points": 150, "otf_mb": 4.0, "gb2312_min": 20.0, "iou": 0.99, "stray": 2.0}
 
 
@@ -57,7 +61,7 @@ def _ttf_points(path: str) -> float:
 
 
 def _trade_row(tol: float, renders: dict, em: Em, folder: str) -> dict:
-    """The renders fitted within tol px: points, extrapolated OTF size and fidelity."""
+    """The renders fitted within tol px on average: points, extrapolated OTF size and fidelity."""
     from ..font.build import write_font
 
     t0 = time.perf_counter()
@@ -67,6 +71,49 @@ def _trade_row(tol: float, renders: dict, em: Em, folder: str) -> dict:
     return {"tolerance_px": tol, "points_median": float(np.median([point_count(o) for o in outlines.values()])),
             "otf_mb_gb2312": os.path.getsize(path) / len(renders) * len(bt.gb2312()) / 1e6,
             "trace_fit_s": fit_s, **_fidelity(path, renders, em)}
+
+
+def _area_fill(polys: list, size: int) -> np.ndarray:
+    """(size, size) coverage in [0, 1] of the closed polylines polys (each (n, 2) px, disjoint,
+    holes inside their outer edges): each pixel's share of its FILL_SUPERSAMPLE^2 sub-pixels whose
+    centres lie inside, by even-odd scanlines."""
+    k = FILL_SUPERSAMPLE
+    n = size * k
+    flips = np.zeros((n, n + 1), np.int32)
+    for p in polys:
+        a, b = p * k, np.roll(p, -1, axis=0) * k
+        # sub-pixel rows whose centre y + 0.5 lies in [min(ya, yb), max(ya, yb)) of each edge
+        lo = np.ceil(np.minimum(a[:, 1], b[:, 1]) - 0.5).astype(int)
+        hi = np.ceil(np.maximum(a[:, 1], b[:, 1]) - 0.5).astype(int)
+        edge = np.repeat(np.arange(len(p)), hi - lo)
+        row = np.concatenate([np.arange(l, h) for l, h in zip(lo, hi)]) if len(edge) else edge
+        t = (row + 0.5 - a[edge, 1]) / (b[edge, 1] - a[edge, 1])
+        x = a[edge, 0] + t * (b[edge, 0] - a[edge, 0])
+        # the crossing flips inside/outside for every sub-pixel centre right of it
+        col = np.clip(np.ceil(x - 0.5).astype(int), 0, n)
+        keep = (row >= 0) & (row < n)
+        np.add.at(flips, (row[keep], col[keep]), 1)
+    inside = (np.cumsum(flips, axis=1)[:, :n] % 2).astype(np.float32)
+    return inside.reshape(size, k, size, k).mean(axis=(1, 3))
+
+
+def _ceiling(renders: dict, em: Em) -> dict:
+    """The traced edge, unfitted and unsmoothed (every vertex a point), then smoothed over
+    SMOOTH_PX: its IoU against each render, filled by area coverage, and its vertices a glyph."""
+    from ..font.check import iou
+    from ..font.trace import ink_coverage, ink_mask, trace
+
+    out = {}
+    for name, smooth in (("raw", 0.0), ("smoothed", SMOOTH_PX)):
+        ious, verts = [], []
+        for rgb in renders.values():
+            cov = ink_coverage(rgb)
+            polys = trace(cov, smooth)
+            ious.append(iou(ink_mask(cov), _area_fill(polys, em.size) >= 0.5))
+            verts.append(sum(len(p) for p in polys))
+        out[name] = {"points_median": float(np.median(verts)), "iou_median": float(np.median(ious)),
+                     "iou_min": float(np.min(ious))}
+    return out
 
 
 def run(count: int = 60, jobs: int = 2, executor: str = "local", style: str = "kai",
@@ -96,13 +143,26 @@ def run(count: int = 60, jobs: int = 2, executor: str = "local", style: str = "k
                   "load": os.getloadavg()[0],
                   **_fidelity(otf, renders, em), "ttf": _fidelity(ttf, renders, em)}
         result["tradeoff"] = [_trade_row(t, renders, em, tmp) for t in tolerances]
+        result["ceiling"] = _ceiling(renders, em)
     return result
+
+
+def iou_vs_points(r: dict) -> str:
+    """One line: median IoU at each median point count of the trade-off rows, fewest points
+    first, then the unfitted edge; and the best IoU of a row within the points target."""
+    rows = sorted(r["tradeoff"], key=lambda x: x["points_median"])
+    pairs = [f"{x['points_median']:.0f}: {x['iou_median']:.3f}" for x in rows]
+    raw = r["ceiling"]["raw"]
+    pairs.append(f"{raw['points_median']:.0f} (the traced edge, unfitted): {raw['iou_median']:.3f}")
+    within = [x["iou_median"] for x in rows if x["points_median"] <= TARGETS["points"]]
+    best = f"; best within {TARGETS['points']} points: {max(within):.3f}" if within else ""
+    return "  IoU vs points a glyph (medians): " + ", ".join(pairs) + best
 
 
 def table(r: dict) -> str:
     t = TARGETS
     lines = [f"bench font: {r['characters']} GB2312 characters, {r['jobs']} jobs ({r['executor']}), traced at "
-             f"{r['size_px']} px, fitted within {r['tolerance_px']} px",
+             f"{r['size_px']} px, fitted within {r['tolerance_px']} px on average",
              f"  median points a glyph: {r['points_median']:.0f} cubic (OTF), {r['ttf_points_median']:.0f} "
              f"quadratic (TTF)   (target <= {t['points']})",
              f"  OTF size for 6,763 glyphs: {r['otf_mb_gb2312']:.1f} MB   (target <= {t['otf_mb']} MB)",
@@ -121,6 +181,11 @@ def table(r: dict) -> str:
                 "stray_p90_max", "trace_fit_s"]
         heads = ["tolerance px", "points (median)", "OTF MB (6,763)", "IoU median", "IoU min", "share IoU >= 0.99",
                  "p90 stray units (max)", "trace+fit s/glyph"]
-        lines += ["", "the same renders fitted at other tolerances:", markdown_table(r["tradeoff"], cols, heads)]
+        lines += ["", "the same renders fitted at other tolerances:", markdown_table(r["tradeoff"], cols, heads),
+                  iou_vs_points(r)]
+    c = r["ceiling"]
+    lines.append(f"  ceiling, the traced edge filled by area coverage: unfitted {c['raw']['points_median']:.0f} points, "
+                 f"IoU {c['raw']['iou_median']:.4f} / {c['raw']['iou_min']:.4f}; smoothed over {SMOOTH_PX:g} px, "
+                 f"IoU {c['smoothed']['iou_median']:.4f} / {c['smoothed']['iou_min']:.4f} (median / min)")
     lines += [f"failed {c}: {why}" for c, why in r["failed"]]
     return "\n".join(lines)

@@ -6,6 +6,7 @@ import os
 import sys
 
 from .build import FORMATS, FontInfo
+from .fit import MAX_RATIO
 from .outline import FIT_TOL_PX, TRACE_SIZE
 
 
@@ -25,8 +26,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=int, default=TRACE_SIZE,
                    help=f"px of the render each outline is traced from (default {TRACE_SIZE})")
     p.add_argument("--tolerance", type=float, default=FIT_TOL_PX,
-                   help=f"px of that render the curves may stray from the ink's edge (default {FIT_TOL_PX}); "
-                        "larger: fewer points, a smaller font")
+                   help=f"px of that render: the curves' mean distance from the ink's edge, none straying more "
+                        f"than {MAX_RATIO:g} times it (default {FIT_TOL_PX}); larger: fewer points, a smaller font")
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                    help=f"worker processes (default: the CPU count, {os.cpu_count()})")
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "

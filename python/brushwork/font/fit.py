@@ -1,8 +1,12 @@
 """Cubic Bezier curves through a closed polyline within a tolerance: the contour is cut at its
 corners, and each piece between two corners is fitted by least squares with its end tangents
-fixed, split where it strays most and fitted again until every point lies within the tolerance
-(the scheme of P. J. Schneider, "An algorithm for automatically fitting digitized curves",
-Graphics Gems, 1990). A curve is a (4, 2) array of control points P0, P1, P2, P3."""
+fixed, split where it strays most and fitted again until it lies within the tolerance (the
+scheme of P. J. Schneider, "An algorithm for automatically fitting digitized curves", Graphics
+Gems, 1990). A piece's error is measured as an area: the mean distance of its points from the
+curve (the area between the two over the piece's length) must be at most the tolerance, and no
+point may stray more than MAX_RATIO tolerances. The grain of the ink's edge (pixel-sized bumps)
+thus costs no curves of its own, while a bulge the width of a stroke still does.
+A curve is a (4, 2) array of control points P0, P1, P2, P3."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,6 +14,10 @@ import numpy as np
 CORNER_DEG = 55.0      # a turn sharper than this over CORNER_REACH is a corner
 CORNER_REACH = 1.5     # contour units each side of a point over which its turn is measured
 NEWTON_STEPS = 4       # reparametrisations tried before a piece is split
+MAX_RATIO = 4.0        # the farthest any point may lie from its curve, in tolerances
+LOOP_RATIO = 1.25      # a curve longer than this many times its piece of edge (plus LOOP_SLACK) loops or overshoots
+LOOP_SLACK = 0.5       # contour units
+LOOP_U = np.linspace(0.0, 1.0, 33)   # the parameters at which a curve's length is measured
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -20,8 +28,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
 def _bezier(c: np.ndarray, u: np.ndarray) -> np.ndarray:
     """Points (n, 2) of the cubic c (4, 2) at parameters u (n,)."""
     s = 1.0 - u
-    return np.outer(s * s * s, c[0]) + np.outer(3 * s * s * u, c[1]) + np.outer(3 * s * u * u, c[2]) \
-        + np.outer(u * u * u, c[3])
+    return np.stack([s * s * s, 3 * s * s * u, 3 * s * u * u, u * u * u], axis=1) @ c
 
 
 def _chord_params(p: np.ndarray) -> np.ndarray:
@@ -63,30 +70,41 @@ def _newton(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> np.ndarray:
     return np.maximum.accumulate(out)
 
 
-def _worst(c: np.ndarray, p: np.ndarray, u: np.ndarray) -> tuple:
-    """(largest distance from p to the curve at its parameter, index of that point)."""
+def _worst(c: np.ndarray, p: np.ndarray, u: np.ndarray, tol: float) -> tuple:
+    """(error of the curve c through p at parameters u in tolerances, index of the farthest
+    point): the larger of the mean distance over tol and the largest over MAX_RATIO * tol, so
+    that the piece fits when the error is at most 1; infinite when the curve loops."""
     d = np.linalg.norm(_bezier(c, u) - p, axis=1)
     i = int(np.argmax(d))
-    return float(d[i]), i
+    err = max(float(np.mean(d)), float(d[i]) / MAX_RATIO) / tol
+    # a loop between two points' parameters escapes their distances: the curve's length shows it
+    if err <= 1.0 and _length(_bezier(c, LOOP_U)) > LOOP_RATIO * _length(p) + LOOP_SLACK:
+        return np.inf, i
+    return err, i
+
+
+def _length(p: np.ndarray) -> float:
+    """Length of the open polyline p (n, 2)."""
+    return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
 def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float) -> list:
     """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
-    every point within tol of the curve at its parameter; t0 the unit tangent at the start, t1 at
-    the end pointing back into the curve."""
+    each curve's points on average within tol of it at their parameters, none farther than
+    MAX_RATIO * tol; t0 the unit tangent at the start, t1 at the end pointing back into the curve."""
     if len(p) <= 2:
         d = float(np.linalg.norm(p[-1] - p[0])) / 3.0
         return [np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]])]
     u = _chord_params(p)
     c = _least_squares(p, u, t0, t1)
-    err, i = _worst(c, p, u)
-    if err <= tol:
+    err, i = _worst(c, p, u, tol)
+    if err <= 1.0:
         return [c]
-    for _ in range(NEWTON_STEPS if err <= 4 * tol else 0):
+    for _ in range(NEWTON_STEPS if err <= 4.0 else 0):
         u = _newton(c, p, u)
         c = _least_squares(p, u, t0, t1)
-        err, i = _worst(c, p, u)
-        if err <= tol:
+        err, i = _worst(c, p, u, tol)
+        if err <= 1.0:
             return [c]
     i = min(max(i, 1), len(p) - 2)
     mid = _unit(p[i - 1] - p[i + 1])          # the tangent at the split, pointing back along p
@@ -121,7 +139,7 @@ def _end_tangent(p: np.ndarray, reach: int) -> np.ndarray:
 def fit_closed(p: np.ndarray, tol: float, spacing: float) -> list:
     """Cubics (each (4, 2)) around the closed polyline p (n, 2) (points about `spacing` apart,
     the last not repeating the first), starting and ending at one point, each piece between
-    corners fitted within tol; sharp at the corners, smooth elsewhere."""
+    corners fitted within tol (as fit_open measures it); sharp at the corners, smooth elsewhere."""
     reach = max(2, int(round(CORNER_REACH / max(spacing, 1e-9))))
     cut = corners(p, spacing)
     if len(cut) == 0:

@@ -16,7 +16,8 @@ UPM = 1000
 ASCENDER = 880          # font units: typo ascender, 0.88 em (Google Fonts' CJK vertical metrics)
 DESCENDER = -120        # font units: typo descender, -0.12 em; ASCENDER - DESCENDER == UPM
 TRACE_SIZE = 512        # px: the render the outline is traced from, N x N
-FIT_TOL_PX = 1.0         # px of the traced image: the farthest a fitted curve may pass from the ink's edge (~2 units)
+FIT_TOL_PX = 0.5        # px of the traced image: a fitted curve's mean distance from the ink's edge (~1 unit)
+SMOOTH_PER_TOL = 2.0    # the traced edge is smoothed over this many tolerances (SMOOTH_PX at most)
 
 
 @dataclass(frozen=True)
@@ -40,9 +41,9 @@ class Em:
 def outline_from_image(rgb: np.ndarray, em: Em, tol_px: float = FIT_TOL_PX) -> list:
     """The outline of the ink in an ink-on-white image (N, N, 3): a list of closed contours, each a
     (m, 4, 2) float array of cubics in font units, outer contours clockwise (y up), holes
-    counter-clockwise. The traced edge is smoothed over at most tol_px (SMOOTH_PX at most)."""
+    counter-clockwise. The traced edge is smoothed over SMOOTH_PER_TOL * tol_px (SMOOTH_PX at most)."""
     contours = []
-    for poly in trace(ink_coverage(rgb), min(tol_px, SMOOTH_PX)):
+    for poly in trace(ink_coverage(rgb), min(SMOOTH_PER_TOL * tol_px, SMOOTH_PX)):
         curves = fit_closed(poly, tol_px, SPACING_PX)
         contours.append(em.to_font(np.array(curves)))
     return contours

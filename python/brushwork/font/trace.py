@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 UPSAMPLE = 4           # sub-pixels per image pixel along each axis the contour follower sees
-MIN_AREA_PX = 0.5      # px^2: specks of ink (or holes) smaller than this are dropped
+MIN_AREA_PX = 1.0      # px^2: specks of ink (or pinholes) traced smaller than a pixel are dropped
 SMOOTH_PX = 1.0        # px: the widest Gaussian smoothing along a contour (takes out the steps and finest facets)
 SPACING_PX = 0.5       # px between the points of a traced contour
 
@@ -61,8 +61,8 @@ def _away_from_ink(p: np.ndarray) -> np.ndarray:
 def trace(cov: np.ndarray, smooth_px: float = SMOOTH_PX, upsample: int = UPSAMPLE) -> list:
     """The ink's edge in cov (H, W coverage): a list of closed polylines (n, 2) in px, points
     SPACING_PX apart, x right,
-    y down, outer edges with a positive shoelace area and holes with a negative one, specks under
-    MIN_AREA_PX dropped; each smoothed along its length by a Gaussian of smooth_px."""
+    y down, outer edges with a positive shoelace area and holes with a negative one; each smoothed
+    along its length by a Gaussian of smooth_px, then those enclosing under MIN_AREA_PX dropped."""
     import cv2
 
     h, w = cov.shape
@@ -74,7 +74,7 @@ def trace(cov: np.ndarray, smooth_px: float = SMOOTH_PX, upsample: int = UPSAMPL
     for k, c in enumerate(found):
         # sub-pixel centre i lies at image coordinate (i + 0.5) / upsample, less the padding
         p = (c[:, 0, :].astype(np.float64) + 0.5) / upsample - 1.0
-        if len(p) < 3 or abs(_signed_area(p)) < MIN_AREA_PX:
+        if len(p) < 3:
             continue
         hole = hierarchy[0][k][3] >= 0
         if (_signed_area(p) > 0) == hole:
@@ -82,5 +82,6 @@ def trace(cov: np.ndarray, smooth_px: float = SMOOTH_PX, upsample: int = UPSAMPL
         p = _smooth_closed(p, smooth_px * upsample)
         # the follower walks the centres of the edge's ink sub-pixels: the edge is half a sub-pixel out
         p = p + _away_from_ink(p) * (0.5 / upsample)
-        out.append(resample_closed(p, SPACING_PX))
+        if abs(_signed_area(p)) >= MIN_AREA_PX:
+            out.append(resample_closed(p, SPACING_PX))
     return out
