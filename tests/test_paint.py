@@ -378,3 +378,22 @@ def test_the_page_paints_with_a_pen_undoes_and_its_log_replays(page):
 
     time.sleep(0.3)                            # (the brush view's last image)
     driver.save_screenshot(shot or str(folder / "page.png"))
+
+
+def test_the_pages_tuft_count_reaches_the_brush_and_the_log(page):
+    """The Brush box's tufts menu splits the brush: the change is a settings event in the log, and
+    the log of a stroke painted with it replays to the page's image."""
+    import urllib.request
+
+    driver, url, folder = page
+    options = driver.find_elements("css selector", "#tufts option")
+    assert [o.get_attribute("value") for o in options] == [str(k) for k in range(1, 10)]
+    options[4].click()                                  # 5 tufts: the main one and four children
+    driver.execute_async_script(WAIT_JS)
+    driver.execute_async_script(STROKE_JS, _pen(60, 420, 160, 0.9))
+    shown = _canvas(driver)
+    log = folder / "tufts-log.json"
+    log.write_bytes(urllib.request.urlopen(url.replace("/?", "/log.json?") if "?" in url else url + "log.json").read())
+    doc = read_log(log)
+    assert ["settings", {"tufts": 5}] in doc["events"]
+    assert _ink(shown).sum() > 200 and np.array_equal(replay(doc).paper.image()[..., ::-1], shown)

@@ -26,6 +26,8 @@ def paint_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--size", type=int, nargs=2, metavar=("W", "H"), default=(960, 640),
                    help="the paper on the page, px (default 960 640, at 5 px/mm)")
     p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+    p.add_argument("--tufts", type=int, default=1, help="tufts the brush may split into, the main one "
+                   "included (1..9, default 1: a single tuft)")
     p.add_argument("--log-dir", metavar="DIR", default=".",
                    help="folder of the motion log paint-YYYYMMDD-HHMMSS.json (default: the current folder)")
 
@@ -34,6 +36,7 @@ def check_paint(args: argparse.Namespace) -> None:
     """The options of `paint`, checked (ValueError in one line)."""
     from .. import BrushModel
     from .server import is_loopback
+    from .session import MAX_TUFTS
 
     if not 0 <= args.port <= 65535:
         raise ValueError(f"--port {args.port}: expected 0..65535")
@@ -41,6 +44,8 @@ def check_paint(args: argparse.Namespace) -> None:
         raise ValueError(f"--size {args.size[0]} {args.size[1]}: expected 64..4096 px each")
     if args.preset not in BrushModel.presets():
         raise ValueError(f"--preset {args.preset!r}: choose from {', '.join(BrushModel.presets())}")
+    if not 1 <= args.tufts <= MAX_TUFTS:
+        raise ValueError(f"--tufts {args.tufts}: expected 1..{MAX_TUFTS}")
     if not is_loopback(args.host) and not args.token:
         raise ValueError(f"--host {args.host}: serving beyond this machine needs --token SECRET")
     if args.token is not None and not (8 <= len(args.token) <= 256 and args.token.isascii() and args.token.isprintable()):
@@ -55,7 +60,7 @@ def paint(args: argparse.Namespace) -> int:
     from .server import make_app, serve
 
     log = os.path.join(args.log_dir, time.strftime("paint-%Y%m%d-%H%M%S.json"))
-    app = make_app(tuple(args.size), args.preset, args.token, log)
+    app = make_app(tuple(args.size), args.preset, args.token, log, tufts=args.tufts)
 
     def announce(port: int) -> None:
         host = f"[{args.host}]" if ":" in args.host else args.host

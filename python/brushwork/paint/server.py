@@ -20,7 +20,7 @@ from importlib import resources
 import numpy as np
 from aiohttp import WSMsgType, web
 
-from .session import SCENE_FLAGS, Session, check_change, unite
+from .session import MAX_TUFTS, SCENE_FLAGS, Session, check_change, unite
 
 MAX_MESSAGE = 64 * 1024      # bytes: a longer text message is refused with an error
 MAX_FRAME = 1024 * 1024      # bytes: a longer frame closes the connection (aiohttp's limit)
@@ -237,7 +237,8 @@ class Painter:
         from .. import BrushModel
 
         return {"type": "hello", "width": s.size_px[0], "height": s.size_px[1], "settings": s.settings,
-                "presets": BrushModel.presets(), "flags": list(SCENE_FLAGS), "max_samples": MAX_SAMPLES}
+                "presets": BrushModel.presets(), "flags": list(SCENE_FLAGS), "max_samples": MAX_SAMPLES,
+                "max_tufts": MAX_TUFTS}
 
 
 PAINTER = web.AppKey("painter", Painter)

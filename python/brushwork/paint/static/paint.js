@@ -40,6 +40,8 @@ const handlers = {
   hello(m) {
     for (const c of [paper, overlay]) { c.width = m.width; c.height = m.height; }
     $("preset").replaceChildren(...m.presets.map((p) => new Option(p, p, false, p === m.settings.preset)));
+    $("tufts").replaceChildren(...Array.from({ length: m.max_tufts }, (_, i) =>
+      new Option(String(i + 1), String(i + 1), false, i + 1 === m.settings.tufts)));
     state.flags = m.flags;
     $("flags").replaceChildren($("flags").firstElementChild, ...m.flags.map((f) => {
       const label = document.createElement("label");
@@ -124,6 +126,7 @@ function sendScene() {
   send({ type: "settings", seq: ++state.seq, scene });
 }
 $("preset").onchange = () => send({ type: "settings", seq: ++state.seq, preset: $("preset").value });
+$("tufts").onchange = () => send({ type: "settings", seq: ++state.seq, tufts: Number($("tufts").value) });
 $("dip").onclick = () => send({ type: "dip", seq: ++state.seq, ink: Number($("ink").value),
                                 wetness: Number($("wetness").value) });
 $("undo").onclick = () => send({ type: "undo", seq: ++state.seq });
