@@ -349,3 +349,24 @@ def test_a_curve_that_loops_between_its_points_does_not_fit():
     assert _worst(straight, p, u, 0.5)[0] <= 1.0
     assert np.allclose(_bezier(looped, u), p)          # on every point at its parameter
     assert _worst(looped, p, u, 0.5)[0] == np.inf
+
+
+def test_the_glyph_cache_is_keyed_by_the_brush(monkeypatch):
+    """Cached outlines are found again only for the same brush: a preset whose parameters differ
+    (another brushwork's simulation) gets a cache folder of its own."""
+    import brushwork
+    from brushwork.font import make
+    from brushwork.writing import Style
+
+    kai = Style.load("kai")
+    key = make._cache_key(kai, 0, 512, 0.5)
+    assert make._cache_key(kai, 0, 512, 0.5) == key
+    preset = brushwork.BrushModel.preset
+
+    def stiffer(name):
+        m = preset(name)
+        m.bend_stiffness *= 2.0
+        return m
+
+    monkeypatch.setattr(brushwork.BrushModel, "preset", staticmethod(stiffer))
+    assert make._cache_key(kai, 0, 512, 0.5) != key

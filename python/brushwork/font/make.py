@@ -53,7 +53,14 @@ def check_tolerance(tol: float) -> float:
 
 
 def _cache_key(style: Style, seed: int, size: int, tol: float) -> str:
-    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT], sort_keys=True, default=str)
+    """What the cached outlines depend on: the style, seed, size and tolerance, the outline format,
+    and the brush (brushwork's version and every parameter of the style's preset), so that another
+    brush never reuses them."""
+    from .. import BrushModel, __version__
+
+    model = BrushModel.preset(style.preset)
+    brush = {p["name"]: getattr(model, p["name"]) for p in model.parameters()}
+    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush], sort_keys=True, default=str)
     return hashlib.sha1(doc.encode()).hexdigest()[:16]
 
 
