@@ -208,7 +208,7 @@ def test_malformed_oversized_and_flooding_messages_are_refused_and_harm_nothing(
     async def body(c):
         await c.connect()
         await c.stroke(120, [0.6] * 10)
-        before, log_before = await c.image(), await c.log()
+        prior, log_prior = await c.image(), await c.log()
         rng = random.Random(7)
         for _ in range(300):
             await c.ws.send_str(_junk(rng))
@@ -217,7 +217,7 @@ def test_malformed_oversized_and_flooding_messages_are_refused_and_harm_nothing(
         while refused < 301:
             m = await c.ws.receive_json(timeout=30)
             refused += m["type"] == "error"
-        assert await c.log() == log_before, "refused messages leave no trace in the painting"
+        assert await c.log() == log_prior, "refused messages leave no trace in the painting"
         # a flood: more messages than the rate allows are refused, not queued
         for _ in range(1500):
             await c.ws.send_str(json.dumps({"type": "samples", "samples": [{"x": 300, "y": 235, "pressure": 0}]}))
@@ -231,14 +231,14 @@ def test_malformed_oversized_and_flooding_messages_are_refused_and_harm_nothing(
             closed = await c.ws.receive()
         await c.connect()
         tile, errors = await c.stroke(200, [0.6] * 10)
-        return before, await c.image(), flood_errors, errors, closed
+        return prior, await c.image(), flood_errors, errors, closed
 
-    before, after, flood_errors, errors, closed = _paint(body)
+    prior, after, flood_errors, errors, closed = _paint(body)
     assert flood_errors, "a flood is answered with errors"
     assert closed.type.name in ("CLOSE", "CLOSED", "CLOSING")
-    assert not errors, "the session still paints"
-    ink_before, ink_after = _ink(before), _ink(after)
-    assert np.abs(ink_after[:160] - ink_before[:160]).max() < 0.02 and ink_after[180:].sum() > 100
+    assert not errors, "the page still paints"
+    ink_prior, ink_after = _ink(prior), _ink(after)
+    assert np.abs(ink_after[:160] - ink_prior[:160]).max() < 0.02 and ink_after[180:].sum() > 100
 
 
 def test_a_token_guards_every_request_and_other_sites_are_refused():

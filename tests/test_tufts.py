@@ -190,11 +190,11 @@ def test_bench_solver_times_each_tuft_count(tmp_path, capsys):
 
 
 def test_paint_settings_take_a_tuft_count():
-    from brushwork.paint.session import Session, check_change
+    from brushwork.paint.painting import Painting, check_change
 
-    session = Session({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0, "tufts": 3})
-    assert session.brush.model.tufts == 2, "three tufts: the main one and two children"
-    assert Session({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0}).brush.model.tufts == 0
+    painting = Painting({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0, "tufts": 3})
+    assert painting.brush.model.tufts == 2, "three tufts: the main one and two children"
+    assert Painting({"width_mm": 40.0, "height_mm": 30.0, "px_per_mm": 4.0}).brush.model.tufts == 0
     assert check_change({"tufts": 5}) == {"tufts": 5}
     for bad in (0, 10, 2.5, True, "3"):
         with pytest.raises(ValueError, match="tufts"):

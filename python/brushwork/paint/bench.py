@@ -55,8 +55,8 @@ async def _measure(n: int, progress, tufts: int = 1) -> dict:
         for seq, kind in enumerate(("up", "undo"), start=n + 21):
             await ws.send_str(json.dumps({"type": kind, "seq": seq}))
             await _answer(ws, seq)
-        session = app[PAINTER].session
-        session.frames, session.sim_s, session.split_frames = 0, 0.0, 0
+        painting = app[PAINTER].painting
+        painting.frames, painting.sim_s, painting.split_frames = 0, 0.0, 0
         progress(f"{n} samples, one at a time, on a {hello['width']} x {hello['height']} px paper")
         for seq, s in enumerate(stroke(n, hello["width"], hello["height"])):
             t0 = time.perf_counter()
@@ -67,11 +67,11 @@ async def _measure(n: int, progress, tufts: int = 1) -> dict:
         await _answer(ws, n)
         await ws.close()
     lat_ms = np.array(lat) * 1e3
-    return {"tufts": tufts, "samples": n, "inked_samples": inked, "size_px": list(session.size_px),
-            "preset": session.settings["preset"], "scene": session.settings["scene"],
+    return {"tufts": tufts, "samples": n, "inked_samples": inked, "size_px": list(painting.size_px),
+            "preset": painting.settings["preset"], "scene": painting.settings["scene"],
             "p50_ms": float(np.percentile(lat_ms, 50)), "p95_ms": float(np.percentile(lat_ms, 95)),
-            "max_ms": float(lat_ms.max()), "frames": session.frames, "split_frames": session.split_frames,
-            "simulated_fps": session.frames / session.sim_s if session.sim_s > 0 else 0.0,
+            "max_ms": float(lat_ms.max()), "frames": painting.frames, "split_frames": painting.split_frames,
+            "simulated_fps": painting.frames / painting.sim_s if painting.sim_s > 0 else 0.0,
             "samples_per_s": n / float(np.sum(lat))}
 
 

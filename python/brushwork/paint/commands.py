@@ -8,7 +8,7 @@ import os
 import sys
 import time
 
-from .session import MAX_PX, check_change
+from .painting import MAX_PX, check_change
 
 
 def _aiohttp() -> None:
@@ -36,7 +36,7 @@ def check_paint(args: argparse.Namespace) -> None:
     """The options of `paint`, checked (ValueError in one line)."""
     from .. import BrushModel
     from .server import is_loopback
-    from .session import MAX_TUFTS
+    from .painting import MAX_TUFTS
 
     if not 0 <= args.port <= 65535:
         raise ValueError(f"--port {args.port}: expected 0..65535")

@@ -1,11 +1,11 @@
-"""Render a painting's motion log (`Session.log()`, the page's /log.json) without a browser:
+"""Render a painting's motion log (`Painting.log()`, the page's /log.json) without a browser:
 `brushwork replay LOG -o out.png [--size N]`."""
 from __future__ import annotations
 
 import json
 import os
 
-from .session import LOG_FORMAT, MAX_PX, Session, check_event
+from .painting import LOG_FORMAT, MAX_PX, Painting, check_event
 
 MAX_LOG_BYTES = 256 * 1024 * 1024
 
@@ -32,8 +32,8 @@ def read_log(path: str | os.PathLike) -> dict:
     return {"settings": settings, "events": events}
 
 
-def replay(log: dict, size: int | None = None) -> Session:
-    """A session that has applied every event of `log`; `size`: the longer side of the paper in
+def replay(log: dict, size: int | None = None) -> Painting:
+    """A painting that has applied every event of `log`; `size`: the longer side of the paper in
     px (default: the size it was painted at)."""
     s = log["settings"]
     ppm = None
@@ -41,10 +41,10 @@ def replay(log: dict, size: int | None = None) -> Session:
         if not 16 <= size <= MAX_PX:
             raise ValueError(f"size {size}: expected 16..{MAX_PX} px (the longer side)")
         ppm = size / max(s["width_mm"], s["height_mm"])
-    session = Session(s, px_per_mm=ppm)
+    painting = Painting(s, px_per_mm=ppm)
     for ev in log["events"]:
-        session.apply(ev)
-    return session
+        painting.apply(ev)
+    return painting
 
 
 def replay_file(path: str | os.PathLike, out: str | os.PathLike, size: int | None = None) -> tuple:
@@ -54,8 +54,8 @@ def replay_file(path: str | os.PathLike, out: str | os.PathLike, size: int | Non
     log = read_log(path)
     check_image_path(out)
     try:
-        session = replay(log, size)
+        painting = replay(log, size)
     except ValueError as err:
         raise ValueError(f"{os.fspath(path)}: {err}") from None
-    save_paper(session.paper, out)
-    return session.paper.width_px, session.paper.height_px, len(log["events"])
+    save_paper(painting.paper, out)
+    return painting.paper.width_px, painting.paper.height_px, len(log["events"])

@@ -1,7 +1,7 @@
 """The web app of `brushwork paint`: the page, the paper as PNG, and a WebSocket that takes pen
 samples and answers with the changed part of the paper (the protocol: README "Painting").
 
-Every message is handled in order by one worker that owns the `Session` (the core's GL context
+Every message is handled in order by one worker that owns the `Painting` (the core's GL context
 lives on the event loop's thread): messages waiting together are applied together and answered by
 one tile, so a slow paper never falls behind the pen by more than one readback.
 """
@@ -20,7 +20,7 @@ from importlib import resources
 import numpy as np
 from aiohttp import WSMsgType, web
 
-from .session import MAX_TUFTS, SCENE_FLAGS, Session, check_change, unite
+from .painting import MAX_TUFTS, SCENE_FLAGS, Painting, check_change, unite
 
 MAX_MESSAGE = 64 * 1024      # bytes: a longer text message is refused with an error
 MAX_FRAME = 1024 * 1024      # bytes: a longer frame closes the connection (aiohttp's limit)
@@ -130,11 +130,11 @@ def _body(msg: dict) -> dict:
     return {}
 
 
-def message_events(session: Session, msg: dict) -> list:
-    """The session events of a checked message."""
+def message_events(painting: Painting, msg: dict) -> list:
+    """The painting events of a checked message."""
     kind = msg["type"]
     if kind == "samples":
-        return [session.sample_pose(*s) for s in msg["samples"]]
+        return [painting.sample_pose(*s) for s in msg["samples"]]
     if kind == "dip":
         return [["dip"] + msg["dip"]]
     if kind == "settings":
@@ -143,10 +143,10 @@ def message_events(session: Session, msg: dict) -> list:
 
 
 class Painter:
-    """The session and its clients: a queue of checked messages, one worker applying them."""
+    """The painting and its clients: a queue of checked messages, one worker applying them."""
 
-    def __init__(self, session: Session, log_path: str | None = None):
-        self.session, self.log_path = session, log_path
+    def __init__(self, painting: Painting, log_path: str | None = None):
+        self.painting, self.log_path = painting, log_path
         self.queue: asyncio.Queue = asyncio.Queue(maxsize=QUEUE_MAX)
         self.sockets: set = set()
         self.view = None                   # the BrushView, made on first use
@@ -166,7 +166,7 @@ class Painter:
                 await self._idle()
 
     async def _apply(self, jobs: list) -> None:
-        s = self.session
+        s = self.painting
         rect, seqs, full = None, {}, False
         for ws, msg in jobs:
             for ev in message_events(s, msg):
@@ -183,7 +183,7 @@ class Painter:
         if self.dirty_view and now - self.view_t >= VIEW_PERIOD and self.sockets:
             await self.broadcast(self.view_message())
             self.view_t, self.dirty_view = now, False
-        self.session.prepare_undo()
+        self.painting.prepare_undo()
         if self.dirty_log and self.log_path and now - self.log_t >= LOG_PERIOD:
             self.write_log()
 
@@ -192,7 +192,7 @@ class Painter:
 
         def write(tmp: str) -> None:
             with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(self.session.log(), f, separators=(",", ":"))
+                json.dump(self.painting.log(), f, separators=(",", ":"))
 
         write_atomic(self.log_path, write, suffix=".json")
         self.log_t, self.dirty_log = time.monotonic(), False
@@ -202,12 +202,12 @@ class Painter:
 
         if self.view is None:
             self.view = BrushView(VIEW_PX, VIEW_PX)
-        rgba = self.view.render(self.session.brush, self.session.paper)
+        rgba = self.view.render(self.painting.brush, self.painting.paper)
         return {"type": "view", "png": base64.b64encode(png_bytes(rgba[..., :3])).decode()}
 
     def tile_message(self, rect, seq=None) -> dict:
         """The paper inside `rect` (px, y up) as a PNG tile placed at (x, y) on the canvas (y down)."""
-        s = self.session
+        s = self.painting
         w, h = s.size_px
         msg = {"type": "tile", "seq": seq, "down": s.down, "contact": s.contact_px()}
         if rect is not None:
@@ -233,7 +233,7 @@ class Painter:
             await self.send(ws, msg)
 
     def hello(self) -> dict:
-        s = self.session
+        s = self.painting
         from .. import BrushModel
 
         return {"type": "hello", "width": s.size_px[0], "height": s.size_px[1], "settings": s.settings,
@@ -253,7 +253,7 @@ async def _ws(request: web.Request) -> web.WebSocketResponse:
     await ws.prepare(request)
     painter.sockets.add(ws)
     await painter.send(ws, painter.hello())
-    await painter.send(ws, painter.tile_message(painter.session.full_rect()))
+    await painter.send(ws, painter.tile_message(painter.painting.full_rect()))
     await painter.send(ws, painter.view_message())
     buckets = {k: Bucket(*v) for k, v in RATE.items()}
     try:
@@ -296,14 +296,14 @@ async def _static(request: web.Request) -> web.Response:
 
 async def _image(request: web.Request) -> web.Response:
     """The paper now, or (?size=N) re-rendered from the log with its longer side N px."""
-    session: Session = request.app[PAINTER].session
+    painting: Painting = request.app[PAINTER].painting
     size = request.query.get("size")
     if size is None:
-        return web.Response(body=png_bytes(session.image()), content_type="image/png")
+        return web.Response(body=png_bytes(painting.image()), content_type="image/png")
     from .replay import replay
 
     try:
-        paper = replay(session.log(), int(size)).paper
+        paper = replay(painting.log(), int(size)).paper
     except ValueError as err:
         raise web.HTTPBadRequest(text=str(err)) from None
     return web.Response(body=png_bytes(paper.image()), content_type="image/png",
@@ -311,7 +311,7 @@ async def _image(request: web.Request) -> web.Response:
 
 
 async def _log(request: web.Request) -> web.Response:
-    return web.json_response(request.app[PAINTER].session.log(),
+    return web.json_response(request.app[PAINTER].painting.log(),
                              headers={"Content-Disposition": 'attachment; filename="paint-log.json"'})
 
 
@@ -330,10 +330,10 @@ def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
     """The app: a fresh painting `size` px (width, height) with the `preset` brush of `tufts`
     tufts (the main one and the children it may split into)."""
     w, h = size
-    session = Session({"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
+    painting = Painting({"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
                        "preset": preset, "tufts": tufts, "scene": {"depletion": True}})
     app = web.Application(middlewares=[_token_check(token)], client_max_size=MAX_FRAME)
-    app[PAINTER] = Painter(session, log_path)
+    app[PAINTER] = Painter(painting, log_path)
     app.router.add_get("/", _static)
     app.router.add_get("/static/{name}", _static)
     app.router.add_get("/image.png", _image)

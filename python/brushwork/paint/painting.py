@@ -3,8 +3,8 @@
 Everything that changes the paper is an *event*, a JSON list: ``["pose", x, y, z, tilt, azimuth,
 twist]`` (the root in mm, paper coordinates with y up, the angles in degrees), ``["up"]`` (the pen
 leaves the paper), ``["undo"]``, ``["clear"]``, ``["dip", ink, wetness]`` and ``["settings",
-{"preset": ..., "scene": {...}}]``. A `Session` applies events and logs them; the same events
-applied to a `Session` of any resolution paint the same picture (`replay`).
+{"preset": ..., "scene": {...}}]``. A `Painting` applies events and logs them; the same events
+applied to a `Painting` of any resolution paint the same picture (`replay`).
 """
 from __future__ import annotations
 
@@ -113,7 +113,7 @@ def _lerp_angle(a: float, b: float, t: float) -> float:
     return a + d * t
 
 
-class Session:
+class Painting:
     """A brush painting on a paper, driven by events (see the module); `log()` is everything
     applied so far. `px_per_mm` overrides the settings' resolution (a replay at another size)."""
 
