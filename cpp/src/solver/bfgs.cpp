@@ -52,8 +52,7 @@ void friction_curvature(const Tuft& t, const BrushState& s, const Workspace& w, 
     for (int k = 0; k < 3; ++k) {
       const double R = s.R[3 * i + k];
       if (R <= 0.0) continue;
-      const double sg = k == 1 ? 1.0 : -1.0;
-      const Vec3 P = k == 0 ? w.O[i] : Vec3(w.O[i] + sg * (k == 1 ? w.d_plus[i] : w.d_minus[i]) * w.u[i]);
+      const Vec3 P = detail::touch_point(w, i, k);
       const double drag = (P - s.prev_pts[3 * i + k]).head<2>().norm();
       const double wt = R * mu2 * mu2 / std::max(t.model.friction_smoothing, drag);
       for (int j = 0; j < std::min(i, t.n); ++j) {

@@ -137,6 +137,17 @@ void lateral_bends(const Tuft& t, Workspace& w, bool grad, double& E) {
   }
 }
 
+// a gradient gP (3,) at touching point k of node i, carried to O_i and, for a lateral node, to
+// u_i and a_i or b_i
+void add_touch_gradient(Workspace& w, int i, int k, const Vec3& gP) {
+  w.gO[i] += gP;
+  if (k == 0) return;
+  const double sg = k == 1 ? 1.0 : -1.0;
+  const double dk = k == 1 ? w.d_plus[i] : w.d_minus[i];
+  w.gu[i] += sg * dk * gP;
+  (k == 1 ? w.gdp : w.gdm)[i] += sg * gP.dot(w.u[i]);
+}
+
 // external friction mu R_i x_i for the frozen contact set, x_i the dragged distance on the
 // paper since the last frame, mu modulated by the hair direction: x_i = sqrt(D^T A D + eps^2)
 // - eps with A = mu_side^2 I + (mu_along^2 - mu_side^2) t t^T, t the unnormalised horizontal
@@ -151,20 +162,11 @@ void friction(const Tuft& t, const BrushState& s, Workspace& w, bool grad, doubl
     for (int k = 0; k < 3; ++k) {
       const double R = s.R[3 * i + k];
       if (R <= 0.0) continue;
-      const double sg = k == 1 ? 1.0 : -1.0;
-      const double dk = k == 1 ? w.d_plus[i] : w.d_minus[i];
-      const Vec3 P = k == 0 ? w.O[i] : Vec3(w.O[i] + sg * dk * w.u[i]);
-      const Vec2 D = (P - s.prev_pts[3 * i + k]).head<2>();
+      const Vec2 D = (detail::touch_point(w, i, k) - s.prev_pts[3 * i + k]).head<2>();
       const Vec2 AD = ms2 * D + (ma2 - ms2) * tx * tx.dot(D);
       const double root = std::sqrt(D.dot(AD) + eps * eps);
       E += R * (root - eps);
-      if (!grad) continue;
-      const Vec3 gP(R * AD.x() / root, R * AD.y() / root, 0.0);
-      w.gO[i] += gP;
-      if (k > 0) {
-        w.gu[i] += sg * dk * gP;
-        (k == 1 ? w.gdp : w.gdm)[i] += sg * gP.dot(w.u[i]);
-      }
+      if (grad) add_touch_gradient(w, i, k, Vec3(R * AD.x() / root, R * AD.y() / root, 0.0));
     }
   }
 }
@@ -177,17 +179,8 @@ void adhesion(const Tuft& t, const BrushState& s, Workspace& w, bool grad, doubl
     for (int k = 0; k < 3; ++k) {
       const double A = s.pull[3 * i + k];
       if (A <= 0.0) continue;
-      const double sg = k == 1 ? 1.0 : -1.0;
-      const double dk = k == 1 ? w.d_plus[i] : w.d_minus[i];
-      const Vec3 P = k == 0 ? w.O[i] : Vec3(w.O[i] + sg * dk * w.u[i]);
-      E += A * P.z();
-      if (!grad) continue;
-      const Vec3 gP(0.0, 0.0, A);
-      w.gO[i] += gP;
-      if (k > 0) {
-        w.gu[i] += sg * dk * gP;
-        (k == 1 ? w.gdp : w.gdm)[i] += sg * gP.dot(w.u[i]);
-      }
+      E += A * detail::touch_point(w, i, k).z();
+      if (grad) add_touch_gradient(w, i, k, Vec3(0.0, 0.0, A));
     }
 }
 

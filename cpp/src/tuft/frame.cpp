@@ -100,11 +100,8 @@ bool kick_pressed(const Tuft& t, BrushState& s, const Workspace& w) {
 
 // O_i, P_i^+ and P_i^- of the current kinematics, as last frame's points
 void record_points(const Tuft& t, BrushState& s, const Workspace& w) {
-  for (int i = 0; i <= t.n; ++i) {
-    s.prev_pts[3 * i] = w.O[i];
-    s.prev_pts[3 * i + 1] = detail::lateral_plus(w, i);
-    s.prev_pts[3 * i + 2] = detail::lateral_minus(w, i);
-  }
+  for (int i = 0; i <= t.n; ++i)
+    for (int k = 0; k < 3; ++k) s.prev_pts[3 * i + k] = detail::touch_point(w, i, k);
 }
 
 // p_i, the proportion of the segment above node i whose surface is under the paper, from the

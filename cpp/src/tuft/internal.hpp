@@ -20,6 +20,10 @@ double section_reach(const Tuft& t, const Workspace& w, int i);
 // world positions of node i's lateral points P_i^+ = O_i + a_i u_i and P_i^- = O_i - b_i u_i, mm
 inline Vec3 lateral_plus(const Workspace& w, int i) { return w.O[i] + w.d_plus[i] * w.u[i]; }
 inline Vec3 lateral_minus(const Workspace& w, int i) { return w.O[i] - w.d_minus[i] * w.u[i]; }
+// node i's touching point k (the contact set's points, 3 a node): 0 O_i, 1 P_i^+, 2 P_i^-, mm
+inline Vec3 touch_point(const Workspace& w, int i, int k) {
+  return k == 0 ? w.O[i] : k == 1 ? lateral_plus(w, i) : lateral_minus(w, i);
+}
 
 // node-level gradients to d/dx (suffix sums, O(n)); one Jacobian row of a constraint on node i
 void clear_node_grads(const Tuft& t, Workspace& w);

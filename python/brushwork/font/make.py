@@ -3,7 +3,8 @@ on Ray), kept in a cache beside the font so that a run stopped part way resumes 
 and another format of the same font is built without writing a glyph again; then the font.
 
 The cache is OUT's folder/.brushwork-font-cache/KEY/U+XXXX-HASH.json, KEY naming the style, seed,
-trace size and tolerance and HASH the glyph's strokes; each file is written atomically."""
+trace size, tolerance and brush (brushwork's version, the preset's parameters) and HASH the glyph's
+strokes; each file is written atomically."""
 from __future__ import annotations
 
 import hashlib
