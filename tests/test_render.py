@@ -164,7 +164,7 @@ def test_single_sample_layer_matches_the_multisampled_one():
         masks[samples], total[samples] = mask(paper), float(paper.ink().sum())
     assert iou(masks[1], masks[4]) >= 0.98
     assert total[1] == pytest.approx(total[4], rel=0.02)
-    # the depletion bookkeeping reads the single-sample layer directly
+    # and a depleting brush gives the single-sample paper what it loses
     brush = bw.Brush(model)
     ink = brush.load_ink(total_mm2=150.0)
     paper = bw.Paper(70, 30, 10, scene=bw.Scene(depletion=True, samples=1))
@@ -360,6 +360,28 @@ def test_depletion_conserves_ink():
     assert sum(s.deposited for s in stats) == pytest.approx(ink.deposited)
     # the brush dried as it went: wetness follows the load
     assert brush.wetness.min() < 0.9
+
+
+def test_the_ink_spent_does_not_depend_on_the_resolution():
+    """The brush spends the ink of the paper it wets, measured on the paper in millimetres: a
+    depleting stroke leaves the brush in the same state at 10 and 40 px/mm, and its ink there
+    agrees."""
+    model = bw.BrushModel.preset("small")
+    poses = straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3, heading_deg=5)
+    spent, states, masks = {}, {}, {}
+    for ppm in (10, 40):
+        brush = bw.Brush(model)
+        brush.load_ink(total_mm2=150.0)
+        paper = bw.Paper(120, 30, ppm, scene=bw.Scene(depletion=True))
+        spent[ppm] = [s.deposited for s in draw(paper, brush, poses)]
+        states[ppm] = (brush.skeleton(), brush.wetness.copy(), brush.ink.load.copy())
+        ink = paper.ink()
+        f = ppm // 10
+        masks[ppm] = ink.reshape(ink.shape[0] // f, f, ink.shape[1] // f, f).mean(axis=(1, 3)) > MASK_THRESHOLD
+    assert spent[10] == spent[40] and sum(spent[10]) > 50.0
+    for a, b in zip(states[10], states[40]):
+        assert np.array_equal(a, b)
+    assert iou(masks[10], masks[40]) >= MASK_IOU_RESOLUTION
 
 
 def test_the_ink_is_part_of_the_brush_state():

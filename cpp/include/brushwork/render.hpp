@@ -135,6 +135,7 @@ void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, 
 
 class FootprintPass;  // internal
 class StrokeFrame;    // internal
+class WetArea;        // internal
 struct PaperTile;        // internal
 
 // A canvas of float ink: premultiplied RGBA, alpha = ink coverage.  Strokes go first into a
@@ -201,14 +202,15 @@ class Paper {
   void start_frames(const std::vector<bool>& swept);
   // tuft k of the brush: its stroke frame frames_[k], its fields' seed
   void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
-                 const Ink* ink, double excess, std::size_t k, DepositStats& stats);
-  double layer_gain(const std::array<int, 4>& rect);  // mm^2 the stroke layer gained over rect
+                 const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats);
+  // depletion: the density [0, 1] a tuft's footprint is drawn at, from its nodes' wetness
+  static double ink_density(const Brush& tuft);
+  // ... and the mm^2 of full-density ink tuft k gave the paper in this deposit at that density
+  double wet_gain(const Brush& tuft, bool swept, std::size_t k, double density);
   void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
   void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
                  const std::function<void(PaperTile&, int, int, int, int)>& f);
   void resolve_layer(const std::array<int, 4>& rect);
-  void read_layer_alpha(const std::array<int, 4>& rect, std::vector<float>& out);
-  void forget_layer_alpha(const std::array<int, 4>& rect);  // zero the kept alpha over rect
   std::array<float, 4> layer_ink() const;  // see TileRef
 
   std::shared_ptr<RenderContext> ctx_;
@@ -231,9 +233,14 @@ class Paper {
   // undo: the paper under the last composited stroke, premultiplied RGBA, row 0 at the bottom
   std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
   std::vector<float> undo_pixels_;
-  // depletion: the stroke layer's alpha as last read back, (H, W) row 0 at the bottom (empty
-  // until the first deposit of a depletion scene)
-  std::vector<float> layer_alpha_;
+  // depletion: the paper this stroke has wetted, and each tuft's footprint at its last deposit
+  // (the main tuft first; no loops: none in this stroke)
+  struct WetFootprint {
+    Loops loops;                                   // mm
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // mm, the loops' area centroid
+  };
+  std::unique_ptr<WetArea> wet_;
+  std::vector<WetFootprint> wet_last_;
   bool undo_available_ = false;
 };
 

@@ -47,7 +47,8 @@ FootprintPass::FootprintPass(RenderContext& ctx, const SceneFeatures& scene, boo
       {&u_color_, "u_color"},   {&u_maps_[0], "u_split"},   {&u_maps_[1], "u_dry"},
       {&u_maps_[2], "u_grain"}, {&u_maps_[3], "u_ramp"},    {&u_soak_shift_, "u_soak_shift"},
       {&u_dry_param_, "u_dry_param"}, {&u_texture_, "u_texture"}, {&u_frame_, "u_frame"},
-      {&u_frame_s_, "u_frame_s"},     {&u_seed_, "u_seed"},       {&u_images_, "u_images"}};
+      {&u_frame_s_, "u_frame_s"},     {&u_seed_, "u_seed"},       {&u_images_, "u_images"},
+      {&u_density_, "u_density"}};
   for (const auto& [loc, name] : uniforms) *loc = glu::uniform(prog_, name);
   // interleaved: prev (3), cur (3), centre prev (3), centre cur (3), uv (2) floats
   glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 3, 3, 2});
@@ -81,6 +82,7 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
   gl::Uniform1fv(u_press_, nodes, in.pressure.data());
   gl::Uniform4f(u_color_, in.color[0], in.color[1], in.color[2], in.color[3]);
   gl::Uniform1f(u_soak_, static_cast<float>(in.soak));
+  gl::Uniform1f(u_density_, static_cast<float>(in.density));
   gl::Uniform1f(u_soak_shift_, static_cast<float>(in.soak_shift));
   gl::Uniform4f(u_dry_param_, static_cast<float>(scene_.dry_onset), static_cast<float>(scene_.dry_pressure),
                 static_cast<float>(scene_.grain_onset), static_cast<float>(scene_.grain_pressure));

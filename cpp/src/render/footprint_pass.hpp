@@ -23,6 +23,7 @@ struct FootprintInputs {
   std::array<float, 4> color{{0, 0, 0, 1}};  // straight RGBA of the ink (no ramp)
   const std::vector<std::array<float, 4>>* ramp = nullptr;  // root .. tip colours (colour ramp scenes)
   double soak = 0.0;              // soak_expand * excess moisture: the tip's growth
+  double density = 1.0;           // depletion: the ink's density over this footprint, [0, 1]
   double soak_shift = 0.0;        // soak_shift * excess moisture: the split map's shift to the tip
   std::array<GLuint, 4> maps{{0, 0, 0, 0}};  // split, dry, grain images, ramp texture (0: none)
   std::array<float, 4> frame{{0, 0, 1, 0}};  // stroke frame: centre (mm), unit travel direction
@@ -71,7 +72,7 @@ class FootprintPass {
   // same time and pixels)
   GLsizeiptr vbo_bytes_ = 0, ibo_bytes_ = 0;
   GLint u_blends_ = -1, u_slides_ = -1, u_first_ = -1, u_shift_ = -1, u_view_ = -1, u_soak_ = -1;
-  GLint u_nodes_ = -1, u_wet_ = -1, u_press_ = -1, u_color_ = -1, u_soak_shift_ = -1;
+  GLint u_nodes_ = -1, u_wet_ = -1, u_press_ = -1, u_color_ = -1, u_soak_shift_ = -1, u_density_ = -1;
   GLint u_dry_param_ = -1, u_texture_ = -1, u_frame_ = -1, u_frame_s_ = -1, u_seed_ = -1, u_images_ = -1;
   std::array<GLint, 4> u_maps_{{-1, -1, -1, -1}};  // u_split, u_dry, u_grain, u_ramp
 };

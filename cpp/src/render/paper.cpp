@@ -17,6 +17,7 @@
 #include "render_mesh.hpp"
 #include "shaders.hpp"
 #include "stroke_frame.hpp"
+#include "wet_area.hpp"
 
 namespace brushwork {
 
@@ -31,6 +32,10 @@ struct PaperTile {
 };
 
 namespace {
+
+// mm: side of the cells the ink a deposit spends is measured in (WetArea): fixed on the paper,
+// so that the brush's ink and motion do not depend on the output's resolution
+constexpr double kWetCellMm = 0.1;
 
 constexpr int kMaxPaperPx = 32768;  // px: the longest side of a paper
 constexpr int kMinTilePx = 16;      // px: the smallest tile side asked for
@@ -138,6 +143,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   max_blend_ = !scene_.color_ramp;
   // the footprint program with this scene's features compiled in, nothing else
   program_ = std::make_unique<FootprintPass>(*ctx_, scene_, max_blend_);
+  wet_ = std::make_unique<WetArea>(kWetCellMm);
 
   // composite: a full-tile triangle pair
   composite_program_ = ctx_->program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
@@ -276,28 +282,6 @@ void Paper::resolve_layer(const Rect& rect) {
   gl::BindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void Paper::read_layer_alpha(const Rect& rect, std::vector<float>& out) {
-  resolve_layer(rect);
-  const int rw = rect[2] - rect[0], rh = rect[3] - rect[1];
-  out.assign(static_cast<std::size_t>(rw) * rh, 0.0f);
-  std::vector<float> buf;
-  for (auto& tp : tiles_) {
-    PaperTile& t = *tp;
-    const Rect r = intersect(rect, {t.x0, t.y0, t.x0 + t.w, t.y0 + t.h});
-    if (empty(r) || t.layer_fbo == 0) continue;
-    const int w = r[2] - r[0], h = r[3] - r[1];
-    const int comps = max_blend_ ? 1 : 4;  // an alpha-only layer, or premultiplied RGBA
-    buf.resize(static_cast<std::size_t>(comps) * w * h);
-    gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
-    gl::PixelStorei(GL_PACK_ALIGNMENT, 4);
-    gl::ReadPixels(r[0] - t.x0, r[1] - t.y0, w, h, max_blend_ ? GL_RED : GL_RGBA, GL_FLOAT, buf.data());
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        out[static_cast<std::size_t>(y + r[1] - rect[1]) * rw + (x + r[0] - rect[0])] =
-            buf[comps * (static_cast<std::size_t>(y) * w + x) + comps - 1];
-  }
-}
-
 MeshOptions Paper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, ppm_, scene_.mesh_px, scene_.mesh_rings, scene_.mesh_around);
 }
@@ -316,6 +300,7 @@ namespace {
 // the fields' seed of tuft k: the scene's for the main tuft, offset for each child so that
 // its streaks differ from its neighbours'
 constexpr std::uint32_t kTuftSeedStride = 7919;
+
 
 // every tuft's surface now (the main tuft first), and its sweep from its own last deposit when
 // the stroke goes on (`same`) and that tuft was there (a child sprouted since starts one)
@@ -372,6 +357,7 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
     flush_stroke();
     stats.new_stroke = true;
     stroke_rect_ = {0, 0, 0, 0};
+    wet_->clear();
   }
   start_frames(t.swept);
   // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
@@ -381,14 +367,46 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   stroke_color_ = color;
   plan_stats(t.plans, stats);
   for (std::size_t k = 0; k < tufts.size(); ++k)
-    if (t.plans[k].draws())
-      draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, k, stats);
+    if (t.plans[k].draws()) {
+      const double density = scene_.depletion ? ink_density(*tufts[k]) : 1.0;
+      draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, density, k, stats);
+      if (scene_.depletion) stats.deposited += wet_gain(*tufts[k], t.swept[k], k, density);
+    }
   // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
   if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
   stroke_open_ = true;
   last_brush_ = &brush;
   last_ = std::move(t.cur);
   return stats;
+}
+
+double Paper::ink_density(const Brush& tuft) {
+  // the pressed nodes give the ink (spend_ink takes it from them first): their wetness, each
+  // weighted by its pressure, at full density down to a tenth of a node's load, then to nothing
+  const std::vector<float> p = node_pressure(tuft);
+  double pw = 0.0, dw = 0.0, all = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double d = std::clamp(10.0 * tuft.wetness()[static_cast<Eigen::Index>(i)], 0.0, 1.0);
+    pw += p[i];
+    dw += p[i] * d;
+    all += d;
+  }
+  return pw > 0.0 ? dw / pw : all / static_cast<double>(p.size());
+}
+
+double Paper::wet_gain(const Brush& tuft, bool swept, std::size_t k, double density) {
+  // what tuft k gave the paper: the cells its footprint (the core's loops, at the core's own
+  // mesh, whatever the paper's resolution) and the band from its last footprint newly wetted,
+  // at the density the footprint pass drew with (and the ink's alpha)
+  const Loops loops = tuft.own_footprint(MeshOptions{});
+  const FootprintSpan span = footprint_span(loops, 0.0);
+  wet_last_.resize(std::max(wet_last_.size(), k + 1));
+  WetFootprint& last = wet_last_[k];
+  if (!swept || !span.valid) last = WetFootprint{};
+  const Eigen::Vector2d shift = last.loops.empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d(span.centroid - last.centre);
+  const double gain = wet_->add(loops, last.loops, shift, density * stroke_color_[3]);
+  last = WetFootprint{loops, span.centroid};
+  return gain;
 }
 
 void Paper::start_frames(const std::vector<bool>& swept) {
@@ -400,8 +418,9 @@ void Paper::start_frames(const std::vector<bool>& swept) {
 }
 
 void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
-                      const Ink* ink, double excess, std::size_t k, DepositStats& stats) {
+                      const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats) {
   FootprintInputs in;
+  in.density = density;
   in.pressure = node_pressure(brush);
   in.wet.resize(in.pressure.size());
   for (std::size_t i = 0; i < in.wet.size(); ++i) in.wet[i] = static_cast<float>(std::clamp(brush.wetness()[i], 0.0, 1.0));
@@ -425,29 +444,8 @@ void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Sweep
   program_->end();
   stats.drawn = true;
   if (k == 0) stats.pressure = std::move(in.pressure);
-  if (scene_.depletion) stats.deposited += layer_gain(plan.rect);
   stroke_rect_ = unite(stroke_rect_, plan.rect);
   stroke_pending_ = true;
-}
-
-double Paper::layer_gain(const Rect& rect) {
-  // what the layer gained over `rect` since the last readback, mm^2 of full-density ink
-  // (the layer's alpha before this deposit is the copy kept from the last readback: one
-  // readback per frame instead of two; the sum is the same, term for term)
-  std::vector<float> after;
-  read_layer_alpha(rect, after);
-  if (layer_alpha_.empty()) layer_alpha_.assign(static_cast<std::size_t>(W_) * H_, 0.0f);
-  double gained = 0.0;
-  const int rw = rect[2] - rect[0], rh = rect[3] - rect[1];
-  for (int y = 0; y < rh; ++y) {
-    const float* row = &after[static_cast<std::size_t>(y) * rw];
-    float* kept = &layer_alpha_[static_cast<std::size_t>(rect[1] + y) * W_ + rect[0]];
-    for (int x = 0; x < rw; ++x) {
-      gained += static_cast<double>(row[x]) - kept[x];
-      kept[x] = row[x];
-    }
-  }
-  return gained / (ppm_ * ppm_);  // px -> mm^2
 }
 
 void Paper::end_stroke() {
@@ -506,16 +504,8 @@ void Paper::flush_stroke() {
   gl::Disable(GL_SCISSOR_TEST);
   gl::BindVertexArray(0);
   glu::check("stroke composite");
-  forget_layer_alpha(rect);
   stroke_pending_ = false;
   stroke_rect_ = {0, 0, 0, 0};
-}
-
-void Paper::forget_layer_alpha(const Rect& rect) {
-  // the layer was cleared over `rect`: so is the kept copy of its alpha
-  if (layer_alpha_.empty() || empty(rect)) return;
-  for (int y = rect[1]; y < rect[3]; ++y)
-    std::fill_n(&layer_alpha_[static_cast<std::size_t>(y) * W_ + rect[0]], rect[2] - rect[0], 0.0f);
 }
 
 bool Paper::undo() {
@@ -532,7 +522,7 @@ bool Paper::undo() {
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     });
     gl::Disable(GL_SCISSOR_TEST);
-    forget_layer_alpha(stroke_rect_);
+    wet_->clear();
     stroke_pending_ = false;
     stroke_open_ = false;
     last_brush_ = nullptr;
@@ -575,9 +565,7 @@ void Paper::clear() {
   last_brush_ = nullptr;
   stroke_rect_ = {0, 0, 0, 0};
   undo_pixels_.clear();
-  // (the kept copy of the layer's alpha is zeroed, not freed: a batch worker clears one paper per
-  // character, and 4 MB freed and allocated again at 1024 px are page-faulted in again)
-  std::fill(layer_alpha_.begin(), layer_alpha_.end(), 0.0f);
+  wet_->clear();
 }
 
 void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>& f) {

@@ -107,6 +107,9 @@ uniform vec4 u_texture;       // 1 / streak width (1/mm), 1 / grain size (1/mm),
                               // field, the grain (a branch the whole draw takes alike)
 uniform int u_seed;           // seed of the procedural fields
 uniform int u_images;         // bits 1, 2, 4: the split, dry, grain fields come from images
+#ifdef USE_DEPLETION
+uniform float u_density;      // the ink's density for this tuft and deposit, [0, 1] (Paper::ink_density)
+#endif
 out vec4 o_color;
 
 #if defined(USE_SPLIT) || defined(USE_DRY) || defined(USE_GRAIN)
@@ -222,8 +225,9 @@ void main() {
   }
 #endif
 #ifdef USE_DEPLETION
-  // an emptied node gives less ink: full density down to 10 % of its load, then to nothing
-  a *= clamp(wet * 10.0, 0.0, 1.0);
+  // an emptying brush gives less ink (the same density over the whole footprint, as the paper
+  // draws it from the tuft's ink as one: what the brush spends is measured at that density)
+  a *= u_density;
 #endif
   if (a <= 1.0 / 4096.0) discard;
 #ifdef USE_MAX_BLEND

@@ -1,0 +1,42 @@
+// The paper a stroke has wetted (seed "Ink loading": the ink a deposit gives the paper is taken
+// from the brush), measured in cells of a fixed size in paper millimetres rather than in the
+// output's pixels: the brush's ink, and through its wetness the brush's motion, are then the same
+// at any output resolution (the output only samples the scene).
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "brushwork/brush.hpp"
+
+namespace brushwork {
+
+class WetArea {
+ public:
+  // cell_mm: side of a cell; a cell is wetted when the footprint covers its centre
+  explicit WetArea(double cell_mm) : cell_(cell_mm) {}
+
+  void clear();  // a new stroke: nothing wetted yet
+
+  // The footprint `loops` (mm, outer loops counter-clockwise, holes clockwise) at ink `density`
+  // in [0, 1], and the band swept since the tuft's last deposit: `loops` slid back along `shift`
+  // (mm, the footprint's move since then) and `last` (that deposit's loops; may be empty) slid
+  // forward along it.  Each cell keeps the densest ink that reached it in this stroke.  Returns
+  // mm^2 of full-density ink the paper gained.
+  double add(const Loops& loops, const Loops& last, const Eigen::Vector2d& shift, double density);
+
+ private:
+  static constexpr int kBlock = 64;  // cells on a side of one lazily allocated block
+
+  // the cells whose centres lie inside `loops` moved by `offset` (even-odd rule), raised to
+  // `density`; the gain in cell units
+  double fill(const Loops& loops, const Eigen::Vector2d& offset, float density);
+  double raise(int cx, int cy, float density);  // one cell; its gain
+
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<float>> blocks_;  // (kBlock, kBlock) densities each
+  std::vector<double> xs_;  // scratch: one row's crossings, mm
+};
+
+}  // namespace brushwork
