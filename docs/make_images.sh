@@ -9,6 +9,11 @@ py="${PYTHON:-.venv/bin/python}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 "$bw" render 永和九年 -o docs/yonghe.png
+# 永 at 2048 px in the two styles, side by side
+"$bw" render 永 --size 2048 --style kai -o "$work/yong_kai.png"
+"$bw" render 永 --size 2048 --style xing -o "$work/yong_xing.png"
+"$py" -c 'import sys, cv2, numpy as np; cv2.imwrite(sys.argv[3], np.hstack([cv2.imread(p) for p in sys.argv[1:3]]))' \
+  "$work/yong_kai.png" "$work/yong_xing.png" docs/yong_2048.png
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
 "$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "$work/sheet" \
   --sheet docs/sheet.png --no-progress
