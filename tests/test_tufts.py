@@ -1,5 +1,8 @@
 """Multiple tufts (seed "Simulation with multiple tufts", Figure 6): child tufts sprout from a
-parent node of the main tuft when it spreads, merge when it lifts, and deposit their own streaks."""
+parent node of the main tuft when it spreads, merge once the brush is clear of the paper, and
+deposit their own streaks."""
+import functools
+
 import numpy as np
 import pytest
 
@@ -10,6 +13,9 @@ from tolerances import PENETRATION_FRAC
 PRESS_Z = (35, 30, 28, 26, 24, 22, 20, 18, 16)  # mm: the root lowered step by step (L = 30 mm)
 LIFT_Z = (20, 25, 30, 35)
 TILT = 20.0
+PX_PER_MM = 5
+END_MM = 8.0          # mm: the stroke's end over which its width must not grow again
+REGROWTH_MM = 0.5     # mm: the most the width may grow back there (a streak's jitter, not a bead)
 
 
 def model(tufts=3, **fields):
@@ -141,12 +147,13 @@ def ink_runs(ink, rows):
     return max(runs)
 
 
+@functools.lru_cache(maxsize=None)
 def stroke_ink(tufts):
     # a moderately pressed pull: the part below N_i touches, the tufts trail the root
     m = model(tufts, sprout_spread=0.5)
     brush = bw.Brush(m)
     brush.load_ink()
-    paper = bw.Paper(40, 50, 5)
+    paper = bw.Paper(40, 50, PX_PER_MM)
     pts = np.array([[20.0, 8.0], [20.0, 44.0]])
     press_ = np.array([0.0, 0.2, 0.2, 0.2, 0.2, 0.0])
     path = np.linspace(pts[0], pts[1], 6)
@@ -167,6 +174,42 @@ def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
     assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
     # and still ink where the main tuft's core passes
     assert split.sum() > 0.3 * single.sum()
+
+
+def test_a_split_brush_stays_split_until_every_tuft_clears_the_paper():
+    # lifted a quarter millimetre a frame: the spread closes while the tufts still touch
+    brush = bw.Brush(model(3))
+    press(brush)
+    assert brush.tufts_active == 3
+    clear, half = brush.model.merge_clearance, 0.5 * brush.model.sprout_spread
+    closed_on_paper, low = False, brush.clearance()
+    for k in range(80):
+        before = low
+        st = brush.step(bw.Pose((0.0, 0.0, PRESS_Z[-1] + 0.25 * k), TILT))
+        low = brush.clearance()  # mm: every sprouted tuft's lowest point
+        if st.tufts_active == 0:
+            break
+        closed_on_paper |= st.sprout_score < half and low < 0.0
+    else:
+        pytest.fail("the brush never merged in the air")
+    assert closed_on_paper, "the spread closed while a tuft touched the paper, and it stayed split"
+    assert low > clear, f"merged with its lowest point {low:.3f} mm above the paper"
+    assert before <= clear, f"still split a frame after clearing the paper by {before:.3f} mm"
+
+
+def test_a_split_stroke_ends_without_a_bead():
+    # the width of the ink across the stroke, along its last END_MM: going toward the end it
+    # only narrows (merged on the paper, the single tuft would lay its belly down there)
+    ink, active = stroke_ink(5)
+    assert active == 5
+    width = (ink > 0.3).sum(axis=1) / PX_PER_MM   # mm, per row; row 0 at the top, the stroke's end
+    rows = np.flatnonzero(width)
+    end = width[rows[0]:rows[0] + int(END_MM * PX_PER_MM)][::-1]  # toward the end
+    regrowth = end - np.minimum.accumulate(end)
+    assert regrowth.max() <= REGROWTH_MM, (
+        f"the width grows back by {regrowth.max():.1f} mm, "
+        f"{(len(end) - 1 - np.argmax(regrowth)) / PX_PER_MM:.1f} mm "
+        "before the stroke's end")
 
 
 def test_bench_solver_times_each_tuft_count(tmp_path, capsys):

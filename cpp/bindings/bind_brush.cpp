@@ -167,6 +167,8 @@ void bind_brush_class(py::module_& m) {
       .def("skeleton", &Brush::skeleton)
       .def("lateral_nodes", &Brush::lateral_nodes)
       .def("section_heights", &Brush::section_heights)
+      .def("clearance", &Brush::clearance,
+           "mm, the lowest point of every sprouted tuft's sections Omega_i above the paper")
       .def("sections_array", &sections_array)
       .def("surface_mesh",
            [](const Brush& b, const MeshOptions& o) {

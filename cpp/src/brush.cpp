@@ -69,12 +69,9 @@ StepStats Brush::step(const Pose& pose) {
 
 void Brush::step_children(StepStats& st) {
   const BrushModel& md = tuft_.model;
-  // friction acts only in contact: a tuft in the air neither sprouts nor stays split
+  // friction acts only in contact: a tuft in the air does not sprout
   const double score = sprout_score(tuft_, state_, ws_, md.tuft_node);
   if (state_.tufts_active == 0 && st.contacts > 0 && score >= md.sprout_spread) sprout();
-  else if (state_.tufts_active > 0 && (st.contacts == 0 || score < 0.5 * md.sprout_spread))
-    state_.tufts_active = 0;
-  st.tufts_active = state_.tufts_active;
   st.tuft_iterations = 0;
   st.sprout_score = score;
   for (int j = 0; j < state_.tufts_active; ++j) {
@@ -84,6 +81,18 @@ void Brush::step_children(StepStats& st) {
     st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
     st.time += cs.time;
   }
+  // a split brush stays split while any of its tufts is near the paper (merged there, the one
+  // tuft would lay its whole belly down); clear of it by merge_clearance, the tufts close into
+  // one once the spread has fallen below half of sprout_spread
+  if (state_.tufts_active > 0 && score < 0.5 * md.sprout_spread && clearance() > md.merge_clearance)
+    state_.tufts_active = 0;
+  st.tufts_active = state_.tufts_active;
+}
+
+double Brush::clearance() const {
+  double low = tuft_clearance(tuft_, ws_);
+  for (int j = 0; j < state_.tufts_active; ++j) low = std::min(low, children_[j].clearance());
+  return low;
 }
 
 void Brush::sprout() {

@@ -111,7 +111,11 @@ const std::vector<ParamSlot>& slots() {
         "a child tuft's belly radius / the main tuft's radius r_i at its parent node"),
       F("sprout_spread", "-", 0.0, 10.0, &BrushModel::sprout_spread,
         "sprouting score (spread, bend and dryness below N_i) at which the children sprout; "
-        "they merge when it falls below half of it or the tuft leaves the paper"),
+        "they merge when it has fallen below half of it and every tuft has cleared the paper by "
+        "merge_clearance"),
+      F("merge_clearance", "mm", 0.0, 50.0, &BrushModel::merge_clearance,
+        "height above the paper of every tuft's lowest point (the sections Omega_i) beyond which a "
+        "split brush whose spread has closed merges into one tuft"),
       F("tuft_core", "-", 0.05, 1.0, &BrushModel::tuft_core,
         "the main tuft's lateral radii below N_i while split, as a fraction (the hairs the "
         "children took)"),

@@ -40,8 +40,8 @@ class Brush {
   explicit Brush(const BrushModel& model);
 
   const BrushModel& model() const { return tuft_.model; }
-  // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting or merging and each
-  // sprouted child tuft's own minimisation (seed "Simulation with multiple tufts")
+  // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting, each sprouted child
+  // tuft's own minimisation and merging (seed "Simulation with multiple tufts")
   StepStats step(const Pose& pose);
   const StepStats& last_stats() const { return state_.stats; }
   void reset();  // straight, unstrained, plasticity forgotten, Hessian forgotten
@@ -64,6 +64,8 @@ class Brush {
   std::vector<const Brush*> tufts() const;
   int tufts_active() const { return state_.tufts_active; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
+  // mm, the lowest point of every sprouted tuft's sections Omega_1..Omega_n above the paper
+  double clearance() const;
 
   // the frame problem, for tests and other solvers: prepare() does step()'s set-up (pose,
   // plasticity, frozen contact set) without solving; the functions below then evaluate it at
@@ -93,7 +95,8 @@ class Brush {
  private:
   // the full vector x with the active variables z put in (validates z's size)
   VecX with_variables(const VecX& z) const;
-  // sprout or merge the children, then step the sprouted ones; adds their figures to st
+  // sprout the children, step the sprouted ones, then merge them once the brush has cleared
+  // the paper; adds their figures to st
   void step_children(StepStats& st);
   void sprout();
 

@@ -66,6 +66,7 @@ struct BrushModel {
   int tuft_node = 2;                    // parent node N_i of the children (1..n-1)
   double tuft_radius = 0.4;             // child belly radius / the parent's r_i at N_i
   double sprout_spread = 1.0;           // sprouting score at which the children sprout (they merge below half)
+  double merge_clearance = 0.5;         // mm, every tuft's lowest point above the paper before a split brush merges
   double tuft_core = 0.2;               // the parent's lateral radii below N_i while split, as a fraction
 
   // throws std::invalid_argument naming the field and the value

@@ -17,6 +17,10 @@ namespace brushwork {
 // contact test
 double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int node);
 
+// the height of the tuft's lowest point above the paper, mm: min over i = 1..n of O_i,z minus
+// the reach of the unshrunk section Omega_i (negative while a section dips into the paper)
+double tuft_clearance(const Tuft& t, const Workspace& w);
+
 // r_j of child j of k (|r_j| < 1): spread along the major axis (the lateral line, where the
 // displaced lateral nodes pull the hairs out) with a small fixed offset along the minor axis
 Vec2 child_displacement(int j, int k);

@@ -37,6 +37,12 @@ double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int 
   return (spread / (t.n - node) + kBendWeight * bend / (0.5 * kPi)) * (1.0 + dryness);
 }
 
+double tuft_clearance(const Tuft& t, const Workspace& w) {
+  double low = detail::kHuge;
+  for (int i = 1; i <= t.n; ++i) low = std::min(low, w.O[i].z() - detail::section_reach(t, w, i));
+  return low;
+}
+
 Vec2 child_displacement(int j, int k) {
   const double rx = k > 1 ? kMajorReach * (2.0 * j / (k - 1) - 1.0) : 0.0;
   const double ry = (j % 2 == 0 ? -1.0 : 1.0) * kMinorOffset;
