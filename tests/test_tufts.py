@@ -16,6 +16,7 @@ TILT = 20.0
 PX_PER_MM = 5
 END_MM = 8.0          # mm: the stroke's end over which its width must not grow again
 REGROWTH_MM = 0.5     # mm: the most the width may grow back there (a streak's jitter, not a bead)
+EVEN_WIDTH_RATIO = 2.0  # widest / narrowest streak of an even split, at most, along its middle
 
 
 def model(tufts=3, **fields):
@@ -34,10 +35,12 @@ def press(brush, heights=PRESS_Z, frames=3):
     return st
 
 
-def test_children_leave_the_main_tuft_as_a_single_tuft_solves_it():
+@pytest.mark.parametrize("even", [False, True])
+def test_children_leave_the_main_tuft_as_a_single_tuft_solves_it(even):
     # the children are solved after their parent, so the main tuft moves bit for bit as a
-    # brush without tufts does (tufts = 0, the default, is that brush)
-    single, split = bw.Brush(model(0)), bw.Brush(model(3))
+    # brush without tufts does (tufts = 0, the default, is that brush), even while even tufts
+    # replace it on the paper
+    single, split = bw.Brush(model(0)), bw.Brush(model(3, even_tufts=even))
     for z in PRESS_Z + LIFT_Z:
         a, b = single.step(bw.Pose((0.0, 0.0, z), TILT)), split.step(bw.Pose((0.0, 0.0, z), TILT))
         assert a.tufts_active == 0 and len(single.tufts()) == 1
@@ -148,9 +151,9 @@ def ink_runs(ink, rows):
 
 
 @functools.lru_cache(maxsize=None)
-def stroke_ink(tufts):
+def stroke_ink(tufts, even=False):
     # a moderately pressed pull: the part below N_i touches, the tufts trail the root
-    m = model(tufts, sprout_spread=0.5)
+    m = model(tufts, sprout_spread=0.5, even_tufts=even)
     brush = bw.Brush(m)
     brush.load_ink()
     paper = bw.Paper(40, 50, PX_PER_MM)
@@ -174,6 +177,54 @@ def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
     assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
     # and still ink where the main tuft's core passes
     assert split.sum() > 0.3 * single.sum()
+
+
+def streak_widths(row):
+    """The widths (px) of the runs of inked pixels along one row of the ink image."""
+    on = np.concatenate([[False], row > 0.3, [False]])
+    edges = np.diff(on.astype(int))
+    return np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1)
+
+
+@pytest.mark.parametrize("k", [3, 5])
+def test_an_even_split_draws_streaks_of_one_width_in_place_of_the_main_tuft(k):
+    ink, active = stroke_ink(k, even=True)
+    assert active == k
+    rows = list(range(int(0.6 * ink.shape[0]), int(0.9 * ink.shape[0]), 5))  # y 5 .. 20 mm: split
+    for r in rows:
+        w = streak_widths(ink[r])
+        assert len(w) == k, f"row {r}: {len(w)} streaks, not {k}"
+        assert w.max() <= EVEN_WIDTH_RATIO * w.min(), f"row {r}: streak widths {list(w)}"
+    # five satellites beside the main tuft: one wide streak among thin ones
+    satellites, _ = stroke_ink(5)
+    for r in rows:
+        w = streak_widths(satellites[r])
+        assert w.max() > EVEN_WIDTH_RATIO * w.min(), f"row {r}: streak widths {list(w)}"
+
+
+def test_even_tufts_share_the_main_tuft_and_replace_it_on_the_paper():
+    m = model(4, even_tufts=True)
+    even = m.split_model()
+    assert even.n_segments == m.n_segments and even.tuft_length == m.tuft_length
+    assert even.belly_radius == pytest.approx(m.belly_radius / 2.0), "1/k of the hairs: r / sqrt(k)"
+    assert even.bend_stiffness == pytest.approx(m.bend_stiffness / 4.0)
+    brush = bw.Brush(m)
+    press(brush)
+    assert brush.tufts_active == 4
+    spines = brush.tufts()
+    assert len(spines) == 4, "the main tuft is off the paper's list"
+    own, loops = brush.own_footprint(), brush.footprint()
+    assert own and len(loops) >= 4, "the main tuft is still pressed, the even tufts touch"
+    assert not any(a.shape == b.shape and np.array_equal(a, b) for a in own for b in loops)
+    assert all(s.shape == brush.skeleton().shape for s in spines), "an even tuft is the whole spine"
+    # rooted across the root's section Omega_0, about the main tuft's root
+    sec, origin = brush.sections_array()[0], brush.skeleton()[0]
+    u, radius = sec[3:6], max(sec[12], sec[13])
+    offsets = sorted((s[0] - origin) @ u for s in spines)
+    assert offsets[0] < -0.5 * radius and offsets[-1] > 0.5 * radius
+    assert max(np.linalg.norm(s[0] - origin) for s in spines) < radius
+    press(brush, LIFT_Z)
+    assert brush.tufts_active == 0 and len(brush.tufts()) == 1
 
 
 def test_a_split_brush_stays_split_until_every_tuft_clears_the_paper():

@@ -187,7 +187,7 @@ void bind_brush_class(py::module_& m) {
              for (const Brush* t : b.tufts()) all.push_back(t->skeleton());
              return all;
            },
-           "(n_j+1, 3) mm spine of each tuft, the main tuft first")
+           "(n_j+1, 3) mm spine of each tuft that meets the paper (Brush::tufts), the main tuft first")
       .def("state", &Brush::state, "a copy of the whole mutable state (BrushState)")
       .def("set_state", &Brush::set_state, py::arg("state"),
            "put back a state from state(); ValueError if it belongs to a brush of another shape")

@@ -48,7 +48,7 @@ void Pose::validate() const {
 }
 
 Brush::Brush(const BrushModel& model) : tuft_(model), state_(initial_state(tuft_)), ws_(tuft_) {
-  if (model.tufts > 0) children_.assign(model.tufts, Brush(model.child_model()));
+  if (model.tufts > 0) children_.assign(model.tufts, Brush(model.split_model()));
   reset();
 }
 
@@ -75,7 +75,7 @@ void Brush::step_children(StepStats& st) {
   st.tuft_iterations = 0;
   st.sprout_score = score;
   for (int j = 0; j < state_.tufts_active; ++j) {
-    const Pose p = child_pose(tuft_, ws_, md.tuft_node, child_displacement(j, md.tufts));
+    const Pose p = child_pose(tuft_, state_, ws_, split_node(), child_displacement(j, md.tufts, md.even_tufts));
     const StepStats& cs = children_[j].step(p);
     st.tuft_iterations += cs.iterations;
     st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
@@ -99,7 +99,7 @@ void Brush::sprout() {
   state_.tufts_active = static_cast<int>(children_.size());
   for (Brush& c : children_) {
     c.reset();
-    seed_child(tuft_, state_, tuft_.model.tuft_node, c.tuft_, c.state_);
+    seed_child(tuft_, state_, split_node(), c.tuft_, c.state_);
     kinematics(c.tuft_, c.state_, c.state_.x, c.ws_);
   }
 }
@@ -122,7 +122,9 @@ void Brush::set_state(const BrushState& s) {
 }
 
 std::vector<const Brush*> Brush::tufts() const {
-  std::vector<const Brush*> all{this};
+  // even tufts replace this one while split (it is still solved, to merge back into)
+  std::vector<const Brush*> all;
+  if (!(tuft_.model.even_tufts && state_.tufts_active > 0)) all.push_back(this);
   for (int j = 0; j < state_.tufts_active; ++j) all.push_back(&children_[j]);
   return all;
 }
@@ -226,7 +228,7 @@ Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> Brush::lateral_nodes()
 
 std::vector<Section> Brush::sections() const {
   std::vector<Section> secs = brushwork::sections(tuft_, ws_);
-  if (state_.tufts_active == 0) return secs;
+  if (state_.tufts_active == 0 || tuft_.model.even_tufts) return secs;
   // split: below N_i the main tuft keeps tuft_core of its major radii, the children the rest
   for (int i = tuft_.model.tuft_node + 1; i <= tuft_.n; ++i) {
     secs[i].a_plus *= tuft_.model.tuft_core;

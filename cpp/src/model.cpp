@@ -106,7 +106,8 @@ const std::vector<ParamSlot>& slots() {
       I("tufts", "-", 0, 8, &BrushModel::tufts,
         "child tufts T_j that sprout from the main tuft when it spreads (0: a single tuft)"),
       I("tuft_node", "-", 1, kMaxSegments - 1, &BrushModel::tuft_node,
-        "parent node N_i of the child tufts, counted from the root (below n_segments)"),
+        "parent node N_i of the child tufts, counted from the root (below n_segments); the "
+        "sprouting score is the spread below it (even tufts too)"),
       F("tuft_radius", "-", 0.05, 1.0, &BrushModel::tuft_radius,
         "a child tuft's belly radius / the main tuft's radius r_i at its parent node"),
       F("sprout_spread", "-", 0.0, 10.0, &BrushModel::sprout_spread,
@@ -119,6 +120,9 @@ const std::vector<ParamSlot>& slots() {
       F("tuft_core", "-", 0.05, 1.0, &BrushModel::tuft_core,
         "the main tuft's lateral radii below N_i while split, as a fraction (the hairs the "
         "children took)"),
+      B("even_tufts", &BrushModel::even_tufts,
+        "split into `tufts` evenly sized tufts rooted across the root's section, which replace the "
+        "main tuft while split (off: `tufts` thin satellites on N_i beside the main tuft)"),
   };
   return table;
 }
@@ -203,6 +207,20 @@ BrushModel BrushModel::child_model() const {
   // keep their round sections and bend only
   c.lateral_spreading = false;
   c.tufts = 0;
+  return c;
+}
+
+BrushModel BrushModel::even_model() const {
+  // 1/k of the hairs: the section's area / k, the hair-count springs / k
+  BrushModel c = *this;
+  const double share = 1.0 / std::max(1, tufts);
+  c.belly_radius = std::sqrt(share) * belly_radius;
+  c.bend_stiffness = share * bend_stiffness;
+  c.stretch_stiffness = share * stretch_stiffness;
+  c.lateral_bend_stiffness = share * lateral_bend_stiffness;
+  c.wet_adhesion = share * wet_adhesion;
+  c.tufts = 0;
+  c.even_tufts = false;
   return c;
 }
 

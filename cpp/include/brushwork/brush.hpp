@@ -54,13 +54,14 @@ class Brush {
   // geometry of the current state
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton() const;        // (n+1, 3) mm
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> lateral_nodes() const;   // (2(n+1), 3) mm: node i at rows 2i (+u) and 2i+1 (-u)
-  std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while split)
+  std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while satellites sprout)
   SurfaceMesh surface_mesh(const MeshOptions& opt) const;
-  Loops footprint(const MeshOptions& opt) const;        // the loops of every tuft, this one first
+  Loops footprint(const MeshOptions& opt) const;        // the loops of every tuft of tufts()
   double footprint_area(const MeshOptions& opt) const;  // mm^2, summed over the tufts
   Loops own_footprint(const MeshOptions& opt) const;    // this tuft's loops alone
 
-  // the tuft hierarchy: this tuft, then each sprouted child (a Brush of model().child_model())
+  // the tufts that meet the paper: this tuft, then each sprouted child (a Brush of
+  // model().split_model()); while even tufts replace this one, those alone
   std::vector<const Brush*> tufts() const;
   int tufts_active() const { return state_.tufts_active; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
@@ -99,6 +100,8 @@ class Brush {
   // the paper; adds their figures to st
   void step_children(StepStats& st);
   void sprout();
+  // the node the split tufts hang from: N_0 for even tufts, else N_{tuft_node}
+  int split_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
 
   Tuft tuft_;
   BrushState state_;

@@ -68,6 +68,7 @@ struct BrushModel {
   double sprout_spread = 1.0;           // sprouting score at which the children sprout (they merge below half)
   double merge_clearance = 0.5;         // mm, every tuft's lowest point above the paper before a split brush merges
   double tuft_core = 0.2;               // the parent's lateral radii below N_i while split, as a fraction
+  bool even_tufts = false;              // split into `tufts` even tufts replacing the main one (off: satellites)
 
   // throws std::invalid_argument naming the field and the value
   void validate() const;
@@ -83,6 +84,11 @@ struct BrushModel {
   // to the tip, its radius tuft_radius r_i, its springs scaled by the hair count, no lateral
   // spreading (a thin tuft), tufts = 0
   BrushModel child_model() const;
+  // the model of one of k = tufts even tufts (seed: "brushes that split into evenly sized tufts"):
+  // the whole spine with 1/k of the hairs, so its radii r_i / sqrt(k) and its springs / k; tufts = 0
+  BrushModel even_model() const;
+  // the model of this brush's split tufts: even_model() or child_model()
+  BrushModel split_model() const { return even_tufts ? even_model() : child_model(); }
 
   static BrushModel preset(const std::string& name);
   static std::vector<std::string> preset_names();

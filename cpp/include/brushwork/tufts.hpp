@@ -22,13 +22,15 @@ double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int 
 double tuft_clearance(const Tuft& t, const Workspace& w);
 
 // r_j of child j of k (|r_j| < 1): spread along the major axis (the lateral line, where the
-// displaced lateral nodes pull the hairs out) with a small fixed offset along the minor axis
-Vec2 child_displacement(int j, int k);
+// displaced lateral nodes pull the hairs out); satellites alternate a small fixed offset along
+// the minor axis, even tufts stay on the major axis (each as deep in the paper as its neighbours)
+Vec2 child_displacement(int j, int k, bool even);
 
 // the pose that puts a child's root at r on N_i's bisecting plane with its root frame the
-// parent's segment frame F_{i-1} (so equal bend and turn angles continue the parent's spine),
-// leaned out toward its side of the lateral line in proportion to r_x (a fan, Figure 6b)
-Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r);
+// parent's segment frame F_{i-1} (the root frame R_0 for N_0, where even tufts start; so equal
+// bend and turn angles continue the parent's spine), leaned out toward its side of the lateral
+// line in proportion to r_x (a fan, Figure 6b)
+Pose child_pose(const Tuft& t, const BrushState& s, const Workspace& w, int node, const Vec2& r);
 
 // a new child's degrees of freedom: the parent's bend, turn and lateral-line angles below N_i
 // (seed: "the system initially assigns it the same bend and turn angles"), unstretched

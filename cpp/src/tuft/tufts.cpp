@@ -43,23 +43,25 @@ double tuft_clearance(const Tuft& t, const Workspace& w) {
   return low;
 }
 
-Vec2 child_displacement(int j, int k) {
+Vec2 child_displacement(int j, int k, bool even) {
   const double rx = k > 1 ? kMajorReach * (2.0 * j / (k - 1) - 1.0) : 0.0;
-  const double ry = (j % 2 == 0 ? -1.0 : 1.0) * kMinorOffset;
+  const double ry = even ? 0.0 : (j % 2 == 0 ? -1.0 : 1.0) * kMinorOffset;
   return Vec2(rx, ry);
 }
 
-Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r) {
+Pose child_pose(const Tuft& t, const BrushState& s, const Workspace& w, int node, const Vec2& r) {
   // root: O_ij + r_x (a or b, + r_lat) u_i + r_y c_i w_i, on the bisecting plane of N_i
   const double major = (r.x() >= 0.0 ? w.d_plus[node] : w.d_minus[node]) + t.rlat[node];
   Pose p;
   p.position = w.O[node] + r.x() * major * w.u[node] + r.y() * w.c[node] * w.w[node];
   // that frame as (tilt, azimuth, twist): e3 = -(handle axis), e1 in the handle's
   // vertical plane turned by the twist about e3 (frame.cpp, set_root_frame)
-  // root frame: F_{i-1} leaned toward the child's side of the lateral line by kSplay r_x
-  const Vec3 axis = w.F[node - 1].col(2).cross(w.u[node]);
+  // root frame: F_{i-1} (R_0 at the root) leaned toward the child's side of the lateral line
+  // by kSplay r_x
+  const Mat3& above = node == 0 ? s.R0 : w.F[node - 1];
+  const Vec3 axis = above.col(2).cross(w.u[node]);
   const Mat3 F = (axis.norm() > 0.0 ? Eigen::AngleAxisd(kSplay * r.x(), axis.normalized()).toRotationMatrix()
-                                    : Mat3::Identity()) * w.F[node - 1];
+                                    : Mat3::Identity()) * above;
   const Vec3 e3 = F.col(2);
   const double tl = std::min(std::acos(std::clamp(-e3.z(), -1.0, 1.0)), kMaxTiltDeg * kDeg);
   const double az = std::atan2(-e3.y(), -e3.x());
