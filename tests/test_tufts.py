@@ -119,6 +119,60 @@ def test_state_restore_repeats_a_split_step_bit_for_bit():
     assert all(np.array_equal(a, b) for a, b in zip(brush.tufts(), twin.tufts()))
 
 
+DEEP_Z = PRESS_Z + (15, 14)  # mm: on down until the section at N_3 parts as well
+
+
+def test_the_split_reaches_up_and_the_children_grow_a_segment_at_their_root():
+    # seed: "the parent node can become N_{i-1}; the child tuft then grows by one segment"
+    brush = bw.Brush(model(3, tuft_node=3))
+    n = brush.model.n_segments
+    nodes = []
+    for z in DEEP_Z:
+        press(brush, (z,))
+        if brush.tufts_active:
+            nodes.append(len(brush.tufts()[1]))
+    assert nodes[0] == n - 3 + 1 and nodes[-1] == n - 2 + 1, f"child spine lengths {nodes}"
+    assert sorted(nodes) == nodes, "a child never shrinks while split"
+    # the grown children hang from N_2: their roots on its bisecting plane, inside Omega_2
+    sec, origin = brush.sections_array()[2], brush.skeleton()[2]
+    for root in (s[0] for s in brush.tufts()[1:]):
+        d = root - origin
+        assert abs(d @ sec[9:12]) < 1e-9 * brush.model.tuft_length
+        assert np.hypot(d @ sec[3:6] / max(sec[12], sec[13]), d @ sec[6:9] / sec[14]) < 1.0
+    # lifted, they merge; pressed again, they sprout from N_3 anew
+    press(brush, LIFT_Z)
+    assert brush.tufts_active == 0
+    press(brush, PRESS_Z)
+    assert len(brush.tufts()[1]) == n - 3 + 1
+
+
+def early_twin_spine(m, state):
+    twin = bw.Brush(m)
+    twin.set_state(state)
+    return twin.tufts()[1]
+
+
+def test_a_state_saved_across_the_growth_replays_on_a_fresh_brush():
+    m = model(3, tuft_node=3)
+    brush = bw.Brush(m)
+    press(brush, DEEP_Z[:-3])
+    early, grown_from = brush.state(), len(brush.tufts()[1])
+    press(brush, DEEP_Z[-3:])
+    assert len(brush.tufts()[1]) > grown_from, "the children grew"
+    twin = bw.Brush(m)  # its children hang from N_3
+    twin.set_state(brush.state())
+    for k in range(1, 4):
+        p = bw.Pose((0.3 * k, 0.0, 14.0), TILT)
+        a, b = brush.step(p), twin.step(p)
+        assert (a.iterations, a.tuft_iterations) == (b.iterations, b.tuft_iterations)
+        assert all(np.array_equal(x, y) for x, y in zip(brush.tufts(), twin.tufts()))
+    assert brush.state().split_node == 2
+    with pytest.raises(ValueError, match="node 2"):
+        bw.Brush(model(3, tuft_node=1)).set_state(brush.state())
+    brush.set_state(early)  # and back to children on N_3
+    assert len(brush.tufts()[1]) == grown_from and np.array_equal(brush.tufts()[1], early_twin_spine(m, early))
+
+
 def test_a_state_for_another_tuft_count_is_refused():
     three, one = bw.Brush(model(3)), bw.Brush(model(1))
     with pytest.raises(ValueError, match="child tufts"):

@@ -94,6 +94,8 @@ that moment.)doc")
       .def_property_readonly("n_segments", [](const BrushState& s) { return s.x.size() / 5; })
       .def_property_readonly("tufts_active", [](const BrushState& s) { return s.tufts_active; },
                              "child tufts sprouted in this state")
+      .def_property_readonly("split_node", [](const BrushState& s) { return s.split_node; },
+                             "the node N_i the child tufts hang from (0: even tufts, at the root)")
       .def_property_readonly("full_state", [](const BrushState& s) { return Eigen::VectorXd(s.x); },
                              "(5n,) all variables, as Brush.full_state()")
       .def("__repr__", [](const BrushState& s) {

@@ -186,22 +186,22 @@ void BrushModel::validate() const {
                                 " must be below n_segments = " + fmt(n_segments));
 }
 
-BrushModel BrushModel::child_model() const {
+BrushModel BrushModel::child_model(int node) const {
   // the spine from N_i to the tip keeps its segment lengths: same ratio, the remaining length
   BrushModel c = *this;
   const Eigen::VectorXd s = node_arclength();
   const double f = tuft_radius;
-  c.n_segments = n_segments - tuft_node;
-  c.tuft_length = tuft_length - s[tuft_node];
-  c.belly_radius = f * node_radii()[tuft_node];
+  c.n_segments = n_segments - node;
+  c.tuft_length = tuft_length - s[node];
+  c.belly_radius = f * node_radii()[node];
   c.belly_position = 0.05;  // thickest at its root, tapering like the parent's tail
   // a child holds f^2 of the hairs at N_i: its springs are the parent's at joint i times f^2
   const Eigen::VectorXd kb = bend_kappa();
-  c.bend_stiffness = f * f * kb[tuft_node];
+  c.bend_stiffness = f * f * kb[node];
   c.stiffness_ratio = std::max(1.0, std::pow(stiffness_ratio, static_cast<double>(c.n_segments - 1) /
                                                                   std::max(1, n_segments - 1)));
   c.stretch_stiffness = f * f * stretch_stiffness;
-  c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[tuft_node];
+  c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[node];
   c.wet_adhesion = f * f * wet_adhesion;
   // thin tufts have no lateral nodes (seed: "eliminating lateral nodes of thin tufts"): they
   // keep their round sections and bend only

@@ -100,8 +100,12 @@ class Brush {
   // the paper; adds their figures to st
   void step_children(StepStats& st);
   void sprout();
-  // the node the split tufts hang from: N_0 for even tufts, else N_{tuft_node}
-  int split_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
+  // the satellites' parent node moves up by one, each child growing a segment at its root
+  void grow();
+  // the children rebuilt to hang from N_node (state_.split_node), unless they already do
+  void hang_children(int node);
+  // the node the split tufts sprout from: N_0 for even tufts, else N_{tuft_node}
+  int sprout_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
 
   Tuft tuft_;
   BrushState state_;

@@ -80,15 +80,15 @@ struct BrushModel {
   Eigen::VectorXd bend_kappa() const;       // (n,) N*mm/rad^m, kappa at joints 0..n-1, root stiffest
   Eigen::VectorXd stiffness_profile() const;  // (n,) -, kappa_j / kappa_0 (bend and lateral bend springs)
   double radius_profile(double t) const;    // -, r(t) / belly radius at t = s / L along the unbent spine
-  // the model of a child tuft T_j hanging from N_{tuft_node}: the parent's spine from that node
+  // the model of a child tuft T_j hanging from N_node (1..n-1): the parent's spine from that node
   // to the tip, its radius tuft_radius r_i, its springs scaled by the hair count, no lateral
   // spreading (a thin tuft), tufts = 0
-  BrushModel child_model() const;
+  BrushModel child_model(int node) const;
   // the model of one of k = tufts even tufts (seed: "brushes that split into evenly sized tufts"):
   // the whole spine with 1/k of the hairs, so its radii r_i / sqrt(k) and its springs / k; tufts = 0
   BrushModel even_model() const;
-  // the model of this brush's split tufts: even_model() or child_model()
-  BrushModel split_model() const { return even_tufts ? even_model() : child_model(); }
+  // the model of this brush's split tufts as they sprout: even_model() or child_model(tuft_node)
+  BrushModel split_model() const { return even_tufts ? even_model() : child_model(tuft_node); }
 
   static BrushModel preset(const std::string& name);
   static std::vector<std::string> preset_names();

@@ -21,6 +21,11 @@ double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int 
 // the reach of the unshrunk section Omega_i (negative while a section dips into the paper)
 double tuft_clearance(const Tuft& t, const Workspace& w);
 
+// how far the split reaches up to N_i: the widening (a_i + b_i) / 2r_i - 1 of the section at
+// the children's parent node, grown by its dryness (1 + 1 - wetness_i); at sprout_spread the
+// hairs part above N_i and the parent node moves up
+double split_reach(const Tuft& t, const BrushState& s, const Workspace& w, int node);
+
 // r_j of child j of k (|r_j| < 1): spread along the major axis (the lateral line, where the
 // displaced lateral nodes pull the hairs out); satellites alternate a small fixed offset along
 // the minor axis, even tufts stay on the major axis (each as deep in the paper as its neighbours)
@@ -35,5 +40,11 @@ Pose child_pose(const Tuft& t, const BrushState& s, const Workspace& w, int node
 // a new child's degrees of freedom: the parent's bend, turn and lateral-line angles below N_i
 // (seed: "the system initially assigns it the same bend and turn angles"), unstretched
 void seed_child(const Tuft& parent, const BrushState& ps, int node, const Tuft& child, BrushState& cs);
+
+// a child grown by one segment at its root as its parent node moves up to N_node (seed: "the
+// parent node can become N_{i-1}; the child tuft then grows by one segment at its root"): the
+// new root joint takes the parent's angles at N_node, the rest the child's own (`old`)
+void grow_child(const Tuft& parent, const BrushState& ps, int node, const BrushState& old, const Tuft& child,
+                BrushState& cs);
 
 }  // namespace brushwork
