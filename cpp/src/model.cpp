@@ -106,8 +106,9 @@ const std::vector<ParamSlot>& slots() {
       I("tufts", "-", 0, 8, &BrushModel::tufts,
         "child tufts T_j that sprout from the main tuft when it spreads (0: a single tuft)"),
       I("tuft_node", "-", 1, kMaxSegments - 1, &BrushModel::tuft_node,
-        "parent node N_i of the child tufts, counted from the root (below n_segments); the "
-        "sprouting score is the spread below it (even tufts too)"),
+        "parent node N_i the child tufts sprout from, counted from the root (below n_segments); "
+        "it moves up a node while the section at it widens by sprout_spread; the sprouting score "
+        "is the spread below it (even tufts too)"),
       F("tuft_radius", "-", 0.05, 1.0, &BrushModel::tuft_radius,
         "a child tuft's belly radius / the main tuft's radius r_i at its parent node"),
       F("sprout_spread", "-", 0.0, 10.0, &BrushModel::sprout_spread,

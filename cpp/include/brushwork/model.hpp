@@ -63,7 +63,7 @@ struct BrushModel {
 
   // --- multiple tufts (seed "Simulation with multiple tufts", Figure 6) ---
   int tufts = 0;                        // child tufts T_j at most (0: a single tuft)
-  int tuft_node = 2;                    // parent node N_i of the children (1..n-1)
+  int tuft_node = 2;                    // parent node N_i the children sprout from (1..n-1; it may move up)
   double tuft_radius = 0.4;             // child belly radius / the parent's r_i at N_i
   double sprout_spread = 1.0;           // sprouting score at which the children sprout (they merge below half)
   double merge_clearance = 0.5;         // mm, every tuft's lowest point above the paper before a split brush merges
