@@ -87,7 +87,8 @@ void Brush::step_children(StepStats& st) {
   st.tuft_iterations = 0;
   st.sprout_score = score;
   for (int j = 0; j < state_.tufts_active; ++j) {
-    const Pose p = child_pose(tuft_, state_, ws_, state_.split_node, child_displacement(j, md.tufts, md.even_tufts));
+    const Vec2 r = child_displacement(j, md.tufts, md.even_tufts);
+    const Pose p = child_pose(tuft_, state_, ws_, state_.split_node, r);
     const StepStats& cs = children_[j].step(p);
     st.tuft_iterations += cs.iterations;
     st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
