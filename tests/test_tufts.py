@@ -1,5 +1,8 @@
 """Multiple tufts (seed "Simulation with multiple tufts", Figure 6): child tufts sprout from a
-parent node of the main tuft when it spreads, merge when it lifts, and deposit their own streaks."""
+parent node of the main tuft when it spreads, merge once the brush is clear of the paper, and
+deposit their own streaks."""
+import functools
+
 import numpy as np
 import pytest
 
@@ -10,6 +13,10 @@ from tolerances import PENETRATION_FRAC
 PRESS_Z = (35, 30, 28, 26, 24, 22, 20, 18, 16)  # mm: the root lowered step by step (L = 30 mm)
 LIFT_Z = (20, 25, 30, 35)
 TILT = 20.0
+PX_PER_MM = 5
+END_MM = 8.0          # mm: the stroke's end over which its width must not grow again
+REGROWTH_MM = 0.5     # mm: the most the width may grow back there (a streak's jitter, not a bead)
+EVEN_WIDTH_RATIO = 2.0  # widest / narrowest streak of an even split, at most, along its middle
 
 
 def model(tufts=3, **fields):
@@ -28,10 +35,12 @@ def press(brush, heights=PRESS_Z, frames=3):
     return st
 
 
-def test_children_leave_the_main_tuft_as_a_single_tuft_solves_it():
+@pytest.mark.parametrize("even", [False, True])
+def test_children_leave_the_main_tuft_as_a_single_tuft_solves_it(even):
     # the children are solved after their parent, so the main tuft moves bit for bit as a
-    # brush without tufts does (tufts = 0, the default, is that brush)
-    single, split = bw.Brush(model(0)), bw.Brush(model(3))
+    # brush without tufts does (tufts = 0, the default, is that brush), even while even tufts
+    # replace it on the paper
+    single, split = bw.Brush(model(0)), bw.Brush(model(3, even_tufts=even))
     for z in PRESS_Z + LIFT_Z:
         a, b = single.step(bw.Pose((0.0, 0.0, z), TILT)), split.step(bw.Pose((0.0, 0.0, z), TILT))
         assert a.tufts_active == 0 and len(single.tufts()) == 1
@@ -110,6 +119,60 @@ def test_state_restore_repeats_a_split_step_bit_for_bit():
     assert all(np.array_equal(a, b) for a, b in zip(brush.tufts(), twin.tufts()))
 
 
+DEEP_Z = PRESS_Z + (15, 14)  # mm: on down until the section at N_3 parts as well
+
+
+def test_the_split_reaches_up_and_the_children_grow_a_segment_at_their_root():
+    # seed: "the parent node can become N_{i-1}; the child tuft then grows by one segment"
+    brush = bw.Brush(model(3, tuft_node=3))
+    n = brush.model.n_segments
+    nodes = []
+    for z in DEEP_Z:
+        press(brush, (z,))
+        if brush.tufts_active:
+            nodes.append(len(brush.tufts()[1]))
+    assert nodes[0] == n - 3 + 1 and nodes[-1] == n - 2 + 1, f"child spine lengths {nodes}"
+    assert sorted(nodes) == nodes, "a child never shrinks while split"
+    # the grown children hang from N_2: their roots on its bisecting plane, inside Omega_2
+    sec, origin = brush.sections_array()[2], brush.skeleton()[2]
+    for root in (s[0] for s in brush.tufts()[1:]):
+        d = root - origin
+        assert abs(d @ sec[9:12]) < 1e-9 * brush.model.tuft_length
+        assert np.hypot(d @ sec[3:6] / max(sec[12], sec[13]), d @ sec[6:9] / sec[14]) < 1.0
+    # lifted, they merge; pressed again, they sprout from N_3 anew
+    press(brush, LIFT_Z)
+    assert brush.tufts_active == 0
+    press(brush, PRESS_Z)
+    assert len(brush.tufts()[1]) == n - 3 + 1
+
+
+def early_twin_spine(m, state):
+    twin = bw.Brush(m)
+    twin.set_state(state)
+    return twin.tufts()[1]
+
+
+def test_a_state_saved_across_the_growth_replays_on_a_fresh_brush():
+    m = model(3, tuft_node=3)
+    brush = bw.Brush(m)
+    press(brush, DEEP_Z[:-3])
+    early, grown_from = brush.state(), len(brush.tufts()[1])
+    press(brush, DEEP_Z[-3:])
+    assert len(brush.tufts()[1]) > grown_from, "the children grew"
+    twin = bw.Brush(m)  # its children hang from N_3
+    twin.set_state(brush.state())
+    for k in range(1, 4):
+        p = bw.Pose((0.3 * k, 0.0, 14.0), TILT)
+        a, b = brush.step(p), twin.step(p)
+        assert (a.iterations, a.tuft_iterations) == (b.iterations, b.tuft_iterations)
+        assert all(np.array_equal(x, y) for x, y in zip(brush.tufts(), twin.tufts()))
+    assert brush.state().split_node == 2
+    with pytest.raises(ValueError, match="node 2"):
+        bw.Brush(model(3, tuft_node=1)).set_state(brush.state())
+    brush.set_state(early)  # and back to children on N_3
+    assert len(brush.tufts()[1]) == grown_from and np.array_equal(brush.tufts()[1], early_twin_spine(m, early))
+
+
 def test_a_state_for_another_tuft_count_is_refused():
     three, one = bw.Brush(model(3)), bw.Brush(model(1))
     with pytest.raises(ValueError, match="child tufts"):
@@ -141,12 +204,13 @@ def ink_runs(ink, rows):
     return max(runs)
 
 
-def stroke_ink(tufts):
+@functools.lru_cache(maxsize=None)
+def stroke_ink(tufts, even=False):
     # a moderately pressed pull: the part below N_i touches, the tufts trail the root
-    m = model(tufts, sprout_spread=0.5)
+    m = model(tufts, sprout_spread=0.5, even_tufts=even)
     brush = bw.Brush(m)
     brush.load_ink()
-    paper = bw.Paper(40, 50, 5)
+    paper = bw.Paper(40, 50, PX_PER_MM)
     pts = np.array([[20.0, 8.0], [20.0, 44.0]])
     press_ = np.array([0.0, 0.2, 0.2, 0.2, 0.2, 0.0])
     path = np.linspace(pts[0], pts[1], 6)
@@ -167,6 +231,90 @@ def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
     assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
     # and still ink where the main tuft's core passes
     assert split.sum() > 0.3 * single.sum()
+
+
+def streak_widths(row):
+    """The widths (px) of the runs of inked pixels along one row of the ink image."""
+    on = np.concatenate([[False], row > 0.3, [False]])
+    edges = np.diff(on.astype(int))
+    return np.flatnonzero(edges == -1) - np.flatnonzero(edges == 1)
+
+
+@pytest.mark.parametrize("k", [3, 5])
+def test_an_even_split_draws_streaks_of_one_width_in_place_of_the_main_tuft(k):
+    ink, active = stroke_ink(k, even=True)
+    assert active == k
+    rows = list(range(int(0.6 * ink.shape[0]), int(0.9 * ink.shape[0]), 5))  # y 5 .. 20 mm: split
+    for r in rows:
+        w = streak_widths(ink[r])
+        assert len(w) == k, f"row {r}: {len(w)} streaks, not {k}"
+        assert w.max() <= EVEN_WIDTH_RATIO * w.min(), f"row {r}: streak widths {list(w)}"
+    # five satellites beside the main tuft: one wide streak among thin ones
+    satellites, _ = stroke_ink(5)
+    for r in rows:
+        w = streak_widths(satellites[r])
+        assert w.max() > EVEN_WIDTH_RATIO * w.min(), f"row {r}: streak widths {list(w)}"
+
+
+def test_even_tufts_share_the_main_tuft_and_replace_it_on_the_paper():
+    m = model(4, even_tufts=True)
+    even = m.split_model()
+    assert even.n_segments == m.n_segments and even.tuft_length == m.tuft_length
+    assert even.belly_radius == pytest.approx(m.belly_radius / 2.0), "1/k of the hairs: r / sqrt(k)"
+    assert even.bend_stiffness == pytest.approx(m.bend_stiffness / 4.0)
+    brush = bw.Brush(m)
+    press(brush)
+    assert brush.tufts_active == 4
+    spines = brush.tufts()
+    assert len(spines) == 4, "the main tuft is off the paper's list"
+    own, loops = brush.own_footprint(), brush.footprint()
+    assert own and len(loops) >= 4, "the main tuft is still pressed, the even tufts touch"
+    assert not any(a.shape == b.shape and np.array_equal(a, b) for a in own for b in loops)
+    assert all(s.shape == brush.skeleton().shape for s in spines), "an even tuft is the whole spine"
+    # rooted across the root's section Omega_0, about the main tuft's root
+    sec, origin = brush.sections_array()[0], brush.skeleton()[0]
+    u, radius = sec[3:6], max(sec[12], sec[13])
+    offsets = sorted((s[0] - origin) @ u for s in spines)
+    assert offsets[0] < -0.5 * radius and offsets[-1] > 0.5 * radius
+    assert max(np.linalg.norm(s[0] - origin) for s in spines) < radius
+    press(brush, LIFT_Z)
+    assert brush.tufts_active == 0 and len(brush.tufts()) == 1
+
+
+def test_a_split_brush_stays_split_until_every_tuft_clears_the_paper():
+    # lifted a quarter millimetre a frame: the spread closes while the tufts still touch
+    brush = bw.Brush(model(3))
+    press(brush)
+    assert brush.tufts_active == 3
+    clear, half = brush.model.merge_clearance, 0.5 * brush.model.sprout_spread
+    closed_on_paper, low = False, brush.clearance()
+    for k in range(80):
+        before = low
+        st = brush.step(bw.Pose((0.0, 0.0, PRESS_Z[-1] + 0.25 * k), TILT))
+        low = brush.clearance()  # mm: every sprouted tuft's lowest point
+        if st.tufts_active == 0:
+            break
+        closed_on_paper |= st.sprout_score < half and low < 0.0
+    else:
+        pytest.fail("the brush never merged in the air")
+    assert closed_on_paper, "the spread closed while a tuft touched the paper, and it stayed split"
+    assert low > clear, f"merged with its lowest point {low:.3f} mm above the paper"
+    assert before <= clear, f"still split a frame after clearing the paper by {before:.3f} mm"
+
+
+def test_a_split_stroke_ends_without_a_bead():
+    # the width of the ink across the stroke, along its last END_MM: going toward the end it
+    # only narrows (merged on the paper, the single tuft would lay its belly down there)
+    ink, active = stroke_ink(5)
+    assert active == 5
+    width = (ink > 0.3).sum(axis=1) / PX_PER_MM   # mm, per row; row 0 at the top, the stroke's end
+    rows = np.flatnonzero(width)
+    end = width[rows[0]:rows[0] + int(END_MM * PX_PER_MM)][::-1]  # toward the end
+    regrowth = end - np.minimum.accumulate(end)
+    assert regrowth.max() <= REGROWTH_MM, (
+        f"the width grows back by {regrowth.max():.1f} mm, "
+        f"{(len(end) - 1 - np.argmax(regrowth)) / PX_PER_MM:.1f} mm "
+        "before the stroke's end")
 
 
 def test_bench_solver_times_each_tuft_count(tmp_path, capsys):

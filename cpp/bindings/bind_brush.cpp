@@ -94,6 +94,8 @@ that moment.)doc")
       .def_property_readonly("n_segments", [](const BrushState& s) { return s.x.size() / 5; })
       .def_property_readonly("tufts_active", [](const BrushState& s) { return s.tufts_active; },
                              "child tufts sprouted in this state")
+      .def_property_readonly("split_node", [](const BrushState& s) { return s.split_node; },
+                             "the node N_i the child tufts hang from (0: even tufts, at the root)")
       .def_property_readonly("full_state", [](const BrushState& s) { return Eigen::VectorXd(s.x); },
                              "(5n,) all variables, as Brush.full_state()")
       .def("__repr__", [](const BrushState& s) {
@@ -167,6 +169,8 @@ void bind_brush_class(py::module_& m) {
       .def("skeleton", &Brush::skeleton)
       .def("lateral_nodes", &Brush::lateral_nodes)
       .def("section_heights", &Brush::section_heights)
+      .def("clearance", &Brush::clearance,
+           "mm, the lowest point of every sprouted tuft's sections Omega_i above the paper")
       .def("sections_array", &sections_array)
       .def("surface_mesh",
            [](const Brush& b, const MeshOptions& o) {
@@ -185,7 +189,7 @@ void bind_brush_class(py::module_& m) {
              for (const Brush* t : b.tufts()) all.push_back(t->skeleton());
              return all;
            },
-           "(n_j+1, 3) mm spine of each tuft, the main tuft first")
+           "(n_j+1, 3) mm spine of each tuft that meets the paper (Brush::tufts), the main tuft first")
       .def("state", &Brush::state, "a copy of the whole mutable state (BrushState)")
       .def("set_state", &Brush::set_state, py::arg("state"),
            "put back a state from state(); ValueError if it belongs to a brush of another shape")

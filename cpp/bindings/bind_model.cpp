@@ -24,6 +24,8 @@ BrushModel.parameters() for the table of units, ranges and meanings.)doc");
       .def("node_radii", &BrushModel::node_radii, "(n+1,) mm, initial tuft radius r_i at spine node N_i.")
       .def("node_arclength", &BrushModel::node_arclength, "(n+1,) mm from the root along the unbent spine.")
       .def("bend_kappa", &BrushModel::bend_kappa, "(n,) N*mm/rad^m, bend spring constants, root first.")
+      .def("split_model", &BrushModel::split_model,
+           "The model of each tuft the brush splits into: an even tuft (even_tufts) or a satellite.")
       .def(
           "replace",
           [](const BrushModel& s, const py::kwargs& fields) {

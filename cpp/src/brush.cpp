@@ -48,7 +48,8 @@ void Pose::validate() const {
 }
 
 Brush::Brush(const BrushModel& model) : tuft_(model), state_(initial_state(tuft_)), ws_(tuft_) {
-  if (model.tufts > 0) children_.assign(model.tufts, Brush(model.child_model()));
+  if (model.tufts > 0) children_.assign(model.tufts, Brush(model.split_model()));
+  state_.split_node = sprout_node();
   reset();
 }
 
@@ -56,7 +57,14 @@ void Brush::reset() {
   // a simple reset reverts a split brush to a single tuft
   reset_state(tuft_, state_, ws_);
   state_.tufts_active = 0;
+  hang_children(sprout_node());
   for (Brush& c : children_) c.reset();
+}
+
+void Brush::hang_children(int node) {
+  if (node == state_.split_node) return;
+  for (Brush& c : children_) c = Brush(tuft_.model.child_model(node));
+  state_.split_node = node;
 }
 
 StepStats Brush::step(const Pose& pose) {
@@ -69,30 +77,56 @@ StepStats Brush::step(const Pose& pose) {
 
 void Brush::step_children(StepStats& st) {
   const BrushModel& md = tuft_.model;
-  // friction acts only in contact: a tuft in the air neither sprouts nor stays split
+  // friction acts only in contact: a tuft in the air does not sprout
   const double score = sprout_score(tuft_, state_, ws_, md.tuft_node);
   if (state_.tufts_active == 0 && st.contacts > 0 && score >= md.sprout_spread) sprout();
-  else if (state_.tufts_active > 0 && (st.contacts == 0 || score < 0.5 * md.sprout_spread))
-    state_.tufts_active = 0;
-  st.tufts_active = state_.tufts_active;
+  // the satellites' parent node N_i spreads as a split does: it becomes N_{i-1}
+  else if (state_.tufts_active > 0 && !md.even_tufts && state_.split_node > 1 && st.contacts > 0 &&
+           split_reach(tuft_, state_, ws_, state_.split_node) >= md.sprout_spread)
+    grow();
   st.tuft_iterations = 0;
   st.sprout_score = score;
   for (int j = 0; j < state_.tufts_active; ++j) {
-    const Pose p = child_pose(tuft_, ws_, md.tuft_node, child_displacement(j, md.tufts));
+    const Vec2 r = child_displacement(j, md.tufts, md.even_tufts);
+    const Pose p = child_pose(tuft_, state_, ws_, state_.split_node, r);
     const StepStats& cs = children_[j].step(p);
     st.tuft_iterations += cs.iterations;
     st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
     st.time += cs.time;
   }
+  // a split brush stays split while any of its tufts is near the paper (merged there, the one
+  // tuft would lay its whole belly down); clear of it by merge_clearance, the tufts close into
+  // one once the spread has fallen below half of sprout_spread
+  if (state_.tufts_active > 0 && score < 0.5 * md.sprout_spread && clearance() > md.merge_clearance)
+    state_.tufts_active = 0;
+  st.tufts_active = state_.tufts_active;
+}
+
+double Brush::clearance() const {
+  double low = tuft_clearance(tuft_, ws_);
+  for (int j = 0; j < state_.tufts_active; ++j) low = std::min(low, children_[j].clearance());
+  return low;
 }
 
 void Brush::sprout() {
   state_.tufts_active = static_cast<int>(children_.size());
+  hang_children(sprout_node());
   for (Brush& c : children_) {
     c.reset();
-    seed_child(tuft_, state_, tuft_.model.tuft_node, c.tuft_, c.state_);
+    seed_child(tuft_, state_, state_.split_node, c.tuft_, c.state_);
     kinematics(c.tuft_, c.state_, c.state_.x, c.ws_);
   }
+}
+
+void Brush::grow() {
+  const int node = state_.split_node - 1;
+  for (Brush& c : children_) {
+    const BrushState old = c.state_;
+    c = Brush(tuft_.model.child_model(node));
+    grow_child(tuft_, state_, node, old, c.tuft_, c.state_);
+    kinematics(c.tuft_, c.state_, c.state_.x, c.ws_);
+  }
+  state_.split_node = node;
 }
 
 BrushState Brush::state() const {
@@ -106,6 +140,15 @@ void Brush::set_state(const BrushState& s) {
   if (s.children.size() != children_.size())
     throw std::invalid_argument("state: expected " + std::to_string(children_.size()) +
                                 " child tufts, got " + std::to_string(s.children.size()));
+  if (!children_.empty()) {
+    // satellites hang from N_1..N_{tuft_node}, even tufts from the root
+    const bool hung = s.split_node == sprout_node() ||
+                      (!tuft_.model.even_tufts && s.split_node >= 1 && s.split_node < tuft_.model.tuft_node);
+    if (!hung)
+      throw std::invalid_argument("state: child tufts on node " + std::to_string(s.split_node) +
+                                  ", which this brush's children cannot hang from");
+    hang_children(s.split_node);
+  }
   for (size_t j = 0; j < children_.size(); ++j) children_[j].set_state(s.children[j]);
   state_ = s;
   state_.children.clear();
@@ -113,7 +156,9 @@ void Brush::set_state(const BrushState& s) {
 }
 
 std::vector<const Brush*> Brush::tufts() const {
-  std::vector<const Brush*> all{this};
+  // even tufts replace this one while split (it is still solved, to merge back into)
+  std::vector<const Brush*> all;
+  if (!(tuft_.model.even_tufts && state_.tufts_active > 0)) all.push_back(this);
   for (int j = 0; j < state_.tufts_active; ++j) all.push_back(&children_[j]);
   return all;
 }
@@ -217,9 +262,9 @@ Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> Brush::lateral_nodes()
 
 std::vector<Section> Brush::sections() const {
   std::vector<Section> secs = brushwork::sections(tuft_, ws_);
-  if (state_.tufts_active == 0) return secs;
+  if (state_.tufts_active == 0 || tuft_.model.even_tufts) return secs;
   // split: below N_i the main tuft keeps tuft_core of its major radii, the children the rest
-  for (int i = tuft_.model.tuft_node + 1; i <= tuft_.n; ++i) {
+  for (int i = state_.split_node + 1; i <= tuft_.n; ++i) {
     secs[i].a_plus *= tuft_.model.tuft_core;
     secs[i].a_minus *= tuft_.model.tuft_core;
   }

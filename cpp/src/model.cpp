@@ -106,15 +106,24 @@ const std::vector<ParamSlot>& slots() {
       I("tufts", "-", 0, 8, &BrushModel::tufts,
         "child tufts T_j that sprout from the main tuft when it spreads (0: a single tuft)"),
       I("tuft_node", "-", 1, kMaxSegments - 1, &BrushModel::tuft_node,
-        "parent node N_i of the child tufts, counted from the root (below n_segments)"),
+        "parent node N_i the child tufts sprout from, counted from the root (below n_segments); "
+        "it moves up a node while the section at it widens by sprout_spread; the sprouting score "
+        "is the spread below it (even tufts too)"),
       F("tuft_radius", "-", 0.05, 1.0, &BrushModel::tuft_radius,
         "a child tuft's belly radius / the main tuft's radius r_i at its parent node"),
       F("sprout_spread", "-", 0.0, 10.0, &BrushModel::sprout_spread,
         "sprouting score (spread, bend and dryness below N_i) at which the children sprout; "
-        "they merge when it falls below half of it or the tuft leaves the paper"),
+        "they merge when it has fallen below half of it and every tuft has cleared the paper by "
+        "merge_clearance"),
+      F("merge_clearance", "mm", 0.0, 50.0, &BrushModel::merge_clearance,
+        "height above the paper of every tuft's lowest point (the sections Omega_i) beyond which a "
+        "split brush whose spread has closed merges into one tuft"),
       F("tuft_core", "-", 0.05, 1.0, &BrushModel::tuft_core,
         "the main tuft's lateral radii below N_i while split, as a fraction (the hairs the "
         "children took)"),
+      B("even_tufts", &BrushModel::even_tufts,
+        "split into `tufts` evenly sized tufts rooted across the root's section, which replace the "
+        "main tuft while split (off: `tufts` thin satellites on N_i beside the main tuft)"),
   };
   return table;
 }
@@ -178,27 +187,41 @@ void BrushModel::validate() const {
                                 " must be below n_segments = " + fmt(n_segments));
 }
 
-BrushModel BrushModel::child_model() const {
+BrushModel BrushModel::child_model(int node) const {
   // the spine from N_i to the tip keeps its segment lengths: same ratio, the remaining length
   BrushModel c = *this;
   const Eigen::VectorXd s = node_arclength();
   const double f = tuft_radius;
-  c.n_segments = n_segments - tuft_node;
-  c.tuft_length = tuft_length - s[tuft_node];
-  c.belly_radius = f * node_radii()[tuft_node];
+  c.n_segments = n_segments - node;
+  c.tuft_length = tuft_length - s[node];
+  c.belly_radius = f * node_radii()[node];
   c.belly_position = 0.05;  // thickest at its root, tapering like the parent's tail
   // a child holds f^2 of the hairs at N_i: its springs are the parent's at joint i times f^2
   const Eigen::VectorXd kb = bend_kappa();
-  c.bend_stiffness = f * f * kb[tuft_node];
+  c.bend_stiffness = f * f * kb[node];
   c.stiffness_ratio = std::max(1.0, std::pow(stiffness_ratio, static_cast<double>(c.n_segments - 1) /
                                                                   std::max(1, n_segments - 1)));
   c.stretch_stiffness = f * f * stretch_stiffness;
-  c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[tuft_node];
+  c.lateral_bend_stiffness = f * f * lateral_bend_stiffness * stiffness_profile()[node];
   c.wet_adhesion = f * f * wet_adhesion;
   // thin tufts have no lateral nodes (seed: "eliminating lateral nodes of thin tufts"): they
   // keep their round sections and bend only
   c.lateral_spreading = false;
   c.tufts = 0;
+  return c;
+}
+
+BrushModel BrushModel::even_model() const {
+  // 1/k of the hairs: the section's area / k, the hair-count springs / k
+  BrushModel c = *this;
+  const double share = 1.0 / std::max(1, tufts);
+  c.belly_radius = std::sqrt(share) * belly_radius;
+  c.bend_stiffness = share * bend_stiffness;
+  c.stretch_stiffness = share * stretch_stiffness;
+  c.lateral_bend_stiffness = share * lateral_bend_stiffness;
+  c.wet_adhesion = share * wet_adhesion;
+  c.tufts = 0;
+  c.even_tufts = false;
   return c;
 }
 

@@ -78,6 +78,9 @@ def samples() -> list[Sample]:
         Sample("k", "split brush", [(_line(20, 25, 68, 25), rise(6, 0.2), 20.0, None)],
                flatten=0.45, model={"tufts": 5, "sprout_spread": 0.5},
                notes="pressed and spread, the tuft splits into five tufts that leave separate streaks"),
+        Sample("l", "even split", [(_line(20, 25, 68, 25), rise(6, 0.2), 20.0, None)],
+               flatten=0.45, model={"tufts": 4, "sprout_spread": 0.5, "even_tufts": True},
+               notes="the same motion; the tuft splits into four even tufts in place of satellites"),
     ]
 
 

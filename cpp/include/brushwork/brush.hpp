@@ -40,8 +40,8 @@ class Brush {
   explicit Brush(const BrushModel& model);
 
   const BrushModel& model() const { return tuft_.model; }
-  // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting or merging and each
-  // sprouted child tuft's own minimisation (seed "Simulation with multiple tufts")
+  // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting, each sprouted child
+  // tuft's own minimisation and merging (seed "Simulation with multiple tufts")
   StepStats step(const Pose& pose);
   const StepStats& last_stats() const { return state_.stats; }
   void reset();  // straight, unstrained, plasticity forgotten, Hessian forgotten
@@ -54,16 +54,19 @@ class Brush {
   // geometry of the current state
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton() const;        // (n+1, 3) mm
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> lateral_nodes() const;   // (2(n+1), 3) mm: node i at rows 2i (+u) and 2i+1 (-u)
-  std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while split)
+  std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while satellites sprout)
   SurfaceMesh surface_mesh(const MeshOptions& opt) const;
-  Loops footprint(const MeshOptions& opt) const;        // the loops of every tuft, this one first
+  Loops footprint(const MeshOptions& opt) const;        // the loops of every tuft of tufts()
   double footprint_area(const MeshOptions& opt) const;  // mm^2, summed over the tufts
   Loops own_footprint(const MeshOptions& opt) const;    // this tuft's loops alone
 
-  // the tuft hierarchy: this tuft, then each sprouted child (a Brush of model().child_model())
+  // the tufts that meet the paper: this tuft, then each sprouted child (a Brush of
+  // model().split_model()); while even tufts replace this one, those alone
   std::vector<const Brush*> tufts() const;
   int tufts_active() const { return state_.tufts_active; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
+  // mm, the lowest point of every sprouted tuft's sections Omega_1..Omega_n above the paper
+  double clearance() const;
 
   // the frame problem, for tests and other solvers: prepare() does step()'s set-up (pose,
   // plasticity, frozen contact set) without solving; the functions below then evaluate it at
@@ -93,9 +96,16 @@ class Brush {
  private:
   // the full vector x with the active variables z put in (validates z's size)
   VecX with_variables(const VecX& z) const;
-  // sprout or merge the children, then step the sprouted ones; adds their figures to st
+  // sprout the children, step the sprouted ones, then merge them once the brush has cleared
+  // the paper; adds their figures to st
   void step_children(StepStats& st);
   void sprout();
+  // the satellites' parent node moves up by one, each child growing a segment at its root
+  void grow();
+  // the children rebuilt to hang from N_node (state_.split_node), unless they already do
+  void hang_children(int node);
+  // the node the split tufts sprout from: N_0 for even tufts, else N_{tuft_node}
+  int sprout_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
 
   Tuft tuft_;
   BrushState state_;

@@ -63,10 +63,12 @@ struct BrushModel {
 
   // --- multiple tufts (seed "Simulation with multiple tufts", Figure 6) ---
   int tufts = 0;                        // child tufts T_j at most (0: a single tuft)
-  int tuft_node = 2;                    // parent node N_i of the children (1..n-1)
+  int tuft_node = 2;                    // parent node N_i the children sprout from (1..n-1; it may move up)
   double tuft_radius = 0.4;             // child belly radius / the parent's r_i at N_i
   double sprout_spread = 1.0;           // sprouting score at which the children sprout (they merge below half)
+  double merge_clearance = 0.5;         // mm, every tuft's lowest point above the paper before a split brush merges
   double tuft_core = 0.2;               // the parent's lateral radii below N_i while split, as a fraction
+  bool even_tufts = false;              // split into `tufts` even tufts replacing the main one (off: satellites)
 
   // throws std::invalid_argument naming the field and the value
   void validate() const;
@@ -78,10 +80,15 @@ struct BrushModel {
   Eigen::VectorXd bend_kappa() const;       // (n,) N*mm/rad^m, kappa at joints 0..n-1, root stiffest
   Eigen::VectorXd stiffness_profile() const;  // (n,) -, kappa_j / kappa_0 (bend and lateral bend springs)
   double radius_profile(double t) const;    // -, r(t) / belly radius at t = s / L along the unbent spine
-  // the model of a child tuft T_j hanging from N_{tuft_node}: the parent's spine from that node
+  // the model of a child tuft T_j hanging from N_node (1..n-1): the parent's spine from that node
   // to the tip, its radius tuft_radius r_i, its springs scaled by the hair count, no lateral
   // spreading (a thin tuft), tufts = 0
-  BrushModel child_model() const;
+  BrushModel child_model(int node) const;
+  // the model of one of k = tufts even tufts (seed: "brushes that split into evenly sized tufts"):
+  // the whole spine with 1/k of the hairs, so its radii r_i / sqrt(k) and its springs / k; tufts = 0
+  BrushModel even_model() const;
+  // the model of this brush's split tufts as they sprout: even_model() or child_model(tuft_node)
+  BrushModel split_model() const { return even_tufts ? even_model() : child_model(tuft_node); }
 
   static BrushModel preset(const std::string& name);
   static std::vector<std::string> preset_names();

@@ -227,6 +227,7 @@ class Paper {
   bool stroke_open_ = false, stroke_pending_ = false;
   const Brush* last_brush_ = nullptr;
   std::vector<SweepFrame> last_;  // each tuft's surface at the last deposit, the main tuft first
+  std::vector<const Brush*> last_tufts_;  // the tuft each of last_ belongs to
   std::vector<std::unique_ptr<StrokeFrame>> frames_;  // each tuft's stroke frame of the split and dry fields
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink

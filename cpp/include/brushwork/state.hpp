@@ -127,6 +127,7 @@ struct BrushState {
   // --- child tufts T_j (seed "Simulation with multiple tufts"): each one's own state (spine,
   // BFGS H, rest angles, contact), in Brush::state() copies; empty for a single tuft ---
   int tufts_active = 0;              // children 0..tufts_active-1 are sprouted
+  int split_node = 0;                // N_i the children hang from (0: even tufts at the root)
   std::vector<BrushState> children;  // (model.tufts) the children's states
 };
 

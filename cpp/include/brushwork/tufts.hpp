@@ -17,17 +17,34 @@ namespace brushwork {
 // contact test
 double sprout_score(const Tuft& t, const BrushState& s, const Workspace& w, int node);
 
+// the height of the tuft's lowest point above the paper, mm: min over i = 1..n of O_i,z minus
+// the reach of the unshrunk section Omega_i (negative while a section dips into the paper)
+double tuft_clearance(const Tuft& t, const Workspace& w);
+
+// how far the split reaches up to N_i: the widening (a_i + b_i) / 2r_i - 1 of the section at
+// the children's parent node, grown by its dryness (1 + 1 - wetness_i); at sprout_spread the
+// hairs part above N_i and the parent node moves up
+double split_reach(const Tuft& t, const BrushState& s, const Workspace& w, int node);
+
 // r_j of child j of k (|r_j| < 1): spread along the major axis (the lateral line, where the
-// displaced lateral nodes pull the hairs out) with a small fixed offset along the minor axis
-Vec2 child_displacement(int j, int k);
+// displaced lateral nodes pull the hairs out); satellites alternate a small fixed offset along
+// the minor axis, even tufts stay on the major axis (each as deep in the paper as its neighbours)
+Vec2 child_displacement(int j, int k, bool even);
 
 // the pose that puts a child's root at r on N_i's bisecting plane with its root frame the
-// parent's segment frame F_{i-1} (so equal bend and turn angles continue the parent's spine),
-// leaned out toward its side of the lateral line in proportion to r_x (a fan, Figure 6b)
-Pose child_pose(const Tuft& t, const Workspace& w, int node, const Vec2& r);
+// parent's segment frame F_{i-1} (the root frame R_0 for N_0, where even tufts start; so equal
+// bend and turn angles continue the parent's spine), leaned out toward its side of the lateral
+// line in proportion to r_x (a fan, Figure 6b)
+Pose child_pose(const Tuft& t, const BrushState& s, const Workspace& w, int node, const Vec2& r);
 
 // a new child's degrees of freedom: the parent's bend, turn and lateral-line angles below N_i
 // (seed: "the system initially assigns it the same bend and turn angles"), unstretched
 void seed_child(const Tuft& parent, const BrushState& ps, int node, const Tuft& child, BrushState& cs);
+
+// a child grown by one segment at its root as its parent node moves up to N_node (seed: "the
+// parent node can become N_{i-1}; the child tuft then grows by one segment at its root"): the
+// new root joint takes the parent's angles at N_node, the rest the child's own (`old`)
+void grow_child(const Tuft& parent, const BrushState& ps, int node, const BrushState& old, const Tuft& child,
+                BrushState& cs);
 
 }  // namespace brushwork

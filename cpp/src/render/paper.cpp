@@ -303,7 +303,8 @@ constexpr std::uint32_t kTuftSeedStride = 7919;
 
 
 // every tuft's surface now (the main tuft first), and its sweep from its own last deposit when
-// the stroke goes on (`same`) and that tuft was there (a child sprouted since starts one)
+// the stroke goes on (`same`) and that tuft was there (`was`: a child sprouted since, or even
+// tufts in place of the main one, start one)
 struct TuftSweeps {
   std::vector<SweepFrame> cur;
   std::vector<SweepPlan> plans;
@@ -312,11 +313,13 @@ struct TuftSweeps {
 };
 
 TuftSweeps plan_tufts(const Paper& paper, const std::vector<const Brush*>& tufts,
-                      const std::vector<SweepFrame>& last, bool same, double soak) {
+                      const std::vector<SweepFrame>& last, const std::vector<const Brush*>& was, bool same,
+                      double soak) {
   TuftSweeps t;
   for (std::size_t k = 0; k < tufts.size(); ++k) {
     t.cur.push_back(sweep_frame(*tufts[k], paper.mesh_options(tufts[k]->model()), soak));
-    t.swept.push_back(same && k < last.size() && last[k].position.size() == t.cur[k].position.size());
+    t.swept.push_back(same && k < last.size() && was[k] == tufts[k] &&
+                      last[k].position.size() == t.cur[k].position.size());
     t.plans.push_back(plan_sweep(t.swept[k] ? &last[k] : nullptr, t.cur[k], paper.px_per_mm(),
                                  paper.width_px(), paper.height_px(),
                                  paper.scene().split_map || paper.scene().dry_map || paper.scene().grain));
@@ -343,7 +346,7 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
   const std::vector<const Brush*> tufts = brush.tufts();
-  TuftSweeps t = plan_tufts(*this, tufts, last_, stroke_open_ && last_brush_ == &brush,
+  TuftSweeps t = plan_tufts(*this, tufts, last_, last_tufts_, stroke_open_ && last_brush_ == &brush,
                             scene_.soak_expand * excess);
   stats.contact = t.contact;
   if (!stats.contact) {
@@ -377,6 +380,7 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   stroke_open_ = true;
   last_brush_ = &brush;
   last_ = std::move(t.cur);
+  last_tufts_ = tufts;
   return stats;
 }
 
