@@ -201,7 +201,8 @@ class Paper {
   // a stroke frame for each tuft; those not swept from the last deposit start theirs
   void start_frames(const std::vector<bool>& swept);
   // tuft k of the brush: its stroke frame frames_[k], its fields' seed
-  void draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
+  // ... returns the share of the footprint the dry map and the grain leave inked (texture_coverage)
+  double draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
                  const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats);
   // depletion: the density [0, 1] a tuft's footprint is drawn at, from its nodes' wetness
   static double ink_density(const Brush& tuft);

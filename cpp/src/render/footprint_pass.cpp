@@ -101,6 +101,23 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
   gl::ActiveTexture(GL_TEXTURE0);
 }
 
+double texture_coverage(const SceneFeatures& scene, const FootprintInputs& in) {
+  if (!scene.dry_map && !scene.grain) return 1.0;
+  const double from_speed = scene.dry_speed * in.speed;
+  auto kept = [&](std::size_t i, double onset, double pressure) {
+    return 1.0 - std::clamp(1.0 - in.wet[i] / onset + from_speed - pressure * in.pressure[i], 0.0, 1.0);
+  };
+  double sum = 0.0;
+  int touching = 0;
+  for (std::size_t i = 0; i < in.wet.size(); ++i) {
+    if (in.pressure[i] <= 0.0f) continue;
+    ++touching;
+    sum += (scene.dry_map ? kept(i, scene.dry_onset, scene.dry_pressure) : 1.0) *
+           (scene.grain ? kept(i, scene.grain_onset, scene.grain_pressure) : 1.0);
+  }
+  return touching > 0 ? sum / touching : 1.0;
+}
+
 void FootprintPass::set_texture_uniforms(const FootprintInputs& in) {
   // the shader's thresholds are linear in wetness and pressure, interpolated between the nodes:
   // their largest value over the surface is at a node

@@ -32,6 +32,11 @@ struct FootprintInputs {
   std::uint32_t seed = 1;         // the procedural fields' seed (the scene's, offset per tuft)
 };
 
+// The share of a footprint drawn with `in` that the dry map and the paper's grain leave inked, on
+// average over its touching nodes (each field thresholded at t keeps about 1 - t of the paper,
+// the shader's `spread`): what the ink a deposit spends is scaled by (Paper::wet_gain).
+double texture_coverage(const SceneFeatures& scene, const FootprintInputs& in);
+
 // A tile of the stroke layer to draw into: its framebuffer, where it lies on the paper (px, y
 // up) and the part of it to touch (px, tile-relative).
 struct LayerTile {

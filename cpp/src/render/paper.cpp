@@ -372,8 +372,9 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   for (std::size_t k = 0; k < tufts.size(); ++k)
     if (t.plans[k].draws()) {
       const double density = scene_.depletion ? ink_density(*tufts[k]) : 1.0;
-      draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, density, k, stats);
-      if (scene_.depletion) stats.deposited += wet_gain(*tufts[k], t.swept[k], k, density);
+      const double cover =
+          draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, density, k, stats);
+      if (scene_.depletion) stats.deposited += wet_gain(*tufts[k], t.swept[k], k, density * cover);
     }
   // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
   if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
@@ -385,17 +386,17 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
 }
 
 double Paper::ink_density(const Brush& tuft) {
-  // the pressed nodes give the ink (spend_ink takes it from them first): their wetness, each
-  // weighted by its pressure, at full density down to a tenth of a node's load, then to nothing
+  // the ink reaches the paper at full density while some node that touches it holds a tenth of
+  // its load, then fades with the wettest one (a drying brush breaks up through the dry map
+  // first, and greys only when nearly empty)
   const std::vector<float> p = node_pressure(tuft);
-  double pw = 0.0, dw = 0.0, all = 0.0;
+  double touching = 0.0, all = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double d = std::clamp(10.0 * tuft.wetness()[static_cast<Eigen::Index>(i)], 0.0, 1.0);
-    pw += p[i];
-    dw += p[i] * d;
-    all += d;
+    all = std::max(all, d);
+    if (p[i] > 0.0f) touching = std::max(touching, d);
   }
-  return pw > 0.0 ? dw / pw : all / static_cast<double>(p.size());
+  return touching > 0.0 ? touching : all;
 }
 
 double Paper::wet_gain(const Brush& tuft, bool swept, std::size_t k, double density) {
@@ -421,7 +422,7 @@ void Paper::start_frames(const std::vector<bool>& swept) {
   }
 }
 
-void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
+double Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
                       const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats) {
   FootprintInputs in;
   in.density = density;
@@ -447,9 +448,11 @@ void Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Sweep
   });
   program_->end();
   stats.drawn = true;
+  const double cover = texture_coverage(scene_, in);
   if (k == 0) stats.pressure = std::move(in.pressure);
   stroke_rect_ = unite(stroke_rect_, plan.rect);
   stroke_pending_ = true;
+  return cover;
 }
 
 void Paper::end_stroke() {
