@@ -204,6 +204,10 @@ class Paper {
   // ... returns the share of the footprint the dry map and the grain leave inked (texture_coverage)
   double draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
                  const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats);
+  void set_stroke_color(const Ink* ink);  // the stroke's ink colour (a new one composites the layer)
+  // tuft k's deposit: drawn, and with depletion the ink it gave the paper counted in stats
+  void deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, bool swept,
+                    const Brush& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats);
   // depletion: the density [0, 1] a tuft's footprint is drawn at, from its nodes' wetness
   static double ink_density(const Brush& tuft);
   // ... and the mm^2 of full-density ink tuft k gave the paper in this deposit at that density

@@ -363,19 +363,12 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
     wet_->clear();
   }
   start_frames(t.swept);
-  // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
-  // (the sweep goes on from the last deposit)
-  const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
-  if (max_blend_ && stroke_pending_ && color != stroke_color_) flush_stroke();
-  stroke_color_ = color;
+  set_stroke_color(ink);
   plan_stats(t.plans, stats);
   for (std::size_t k = 0; k < tufts.size(); ++k)
-    if (t.plans[k].draws()) {
-      const double density = scene_.depletion ? ink_density(*tufts[k]) : 1.0;
-      const double cover =
-          draw_plan(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], *tufts[k], ink, excess, density, k, stats);
-      if (scene_.depletion) stats.deposited += wet_gain(*tufts[k], t.swept[k], k, density * cover);
-    }
+    if (t.plans[k].draws())
+      deposit_tuft(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], t.swept[k], *tufts[k], ink, excess, k,
+                   stats);
   // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
   if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
   stroke_open_ = true;
@@ -383,6 +376,21 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   last_ = std::move(t.cur);
   last_tufts_ = tufts;
   return stats;
+}
+
+void Paper::set_stroke_color(const Ink* ink) {
+  // the alpha-only layer takes one colour per stroke: a new colour composites the layer first
+  // (the sweep goes on from the last deposit)
+  const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
+  if (max_blend_ && stroke_pending_ && color != stroke_color_) flush_stroke();
+  stroke_color_ = color;
+}
+
+void Paper::deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, bool swept,
+                         const Brush& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats) {
+  const double density = scene_.depletion ? ink_density(tuft) : 1.0;
+  const double cover = draw_plan(plan, last, cur, tuft, ink, excess, density, k, stats);
+  if (scene_.depletion) stats.deposited += wet_gain(tuft, swept, k, density * cover);
 }
 
 double Paper::ink_density(const Brush& tuft) {
