@@ -205,18 +205,27 @@ def ink_runs(ink, rows):
 
 
 @functools.lru_cache(maxsize=None)
-def stroke_ink(tufts, even=False):
-    # a moderately pressed pull: the part below N_i touches, the tufts trail the root
+def stroke_ink(tufts, even=False, wet=None):
+    # a moderately pressed pull: the part below N_i touches, the tufts trail the root; wet: the
+    # brush's ink drops to this fraction of a full load once it has split (on paper that depletes)
     m = model(tufts, sprout_spread=0.5, even_tufts=even)
     brush = bw.Brush(m)
-    brush.load_ink()
-    paper = bw.Paper(40, 50, PX_PER_MM)
+    ink = brush.load_ink()
+    paper = bw.Paper(40, 50, PX_PER_MM, scene=bw.Scene(depletion=wet is not None))
     pts = np.array([[20.0, 8.0], [20.0, 44.0]])
     press_ = np.array([0.0, 0.2, 0.2, 0.2, 0.2, 0.0])
     path = np.linspace(pts[0], pts[1], 6)
     split = 0
     for pose in along_path(m, path, press_, TILT, None, step_mm=0.5):
-        split = max(split, brush.step(pose).tufts_active)
+        active = brush.step(pose).tufts_active
+        if wet is not None and active and not split:
+            ink.load = ink.capacity * wet
+            brush.wetness = np.full(m.n_segments + 1, wet)
+            paper.end_stroke()
+            paper.clear()        # (the ink from the next frame on, the tufts' first with it)
+            split = active
+            continue
+        split = max(split, active)
         paper.deposit(brush)
     paper.end_stroke()
     return paper.ink(), split
@@ -231,6 +240,15 @@ def test_a_split_brush_leaves_more_separate_streaks_than_one_tuft():
     assert ink_runs(split, rows) >= 4, "the tufts draw separate streaks"
     # and still ink where the main tuft's core passes
     assert split.sum() > 0.3 * single.sum()
+
+
+def test_the_tufts_share_the_brush_s_ink():
+    # a brush whose ink falls to 3% of its load once split draws at 30% density (full down to a
+    # tenth of a node's load): the satellites draw from the same ink, not at the full density
+    # they sprouted with
+    ink, active = stroke_ink(5, wet=0.03)
+    assert active == 5
+    assert 0.0 < ink.max() <= 0.35
 
 
 def streak_widths(row):

@@ -89,6 +89,9 @@ void Brush::step_children(StepStats& st) {
   for (int j = 0; j < state_.tufts_active; ++j) {
     const Vec2 r = child_displacement(j, md.tufts, md.even_tufts);
     const Pose p = child_pose(tuft_, state_, ws_, state_.split_node, r);
+    // the tufts share the brush's ink: a child is as wet as the parent's nodes from its root down
+    VecX& wet = children_[j].state_.wetness;
+    wet = state_.wetness.tail(wet.size());
     const StepStats& cs = children_[j].step(p);
     st.tuft_iterations += cs.iterations;
     st.max_penetration = std::max(st.max_penetration, cs.max_penetration);
