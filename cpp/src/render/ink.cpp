@@ -80,8 +80,9 @@ void Ink::validate(int nodes) const {
 
 void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, Brush& brush) {
   if (scene.depletion && stats.drawn) {
-    // what the layer gained is what the brush lost (seed: "automatically subtract the ink
-    // values from the brush"), taken from the pressed nodes that still hold ink
+    // what the paper gained is what the brush lost (seed: "automatically subtract the ink
+    // values from the brush"; the paper's gain measured in millimetres, Paper::wet_gain), taken
+    // from the pressed nodes that still hold ink
     take_ink(ink, stats.deposited, stats.pressure);
     ink.deposited += stats.deposited;
     // capillary flow inside the tuft: every node's wetness relaxes toward the tuft's mean by
