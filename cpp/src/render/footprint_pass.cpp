@@ -101,11 +101,21 @@ void FootprintPass::set_uniforms(const FootprintInputs& in) {
   gl::ActiveTexture(GL_TEXTURE0);
 }
 
+namespace {
+
+// the shader's threshold of the dry map (onset dry_onset, dry_pressure) or the grain at node i:
+// 1 - w_i / onset + dryness from speed - pressure p_i; above 0 the field opens there
+double node_threshold(const SceneFeatures& scene, const FootprintInputs& in, std::size_t i, double onset,
+                      double pressure) {
+  return 1.0 - in.wet[i] / onset + scene.dry_speed * in.speed - pressure * in.pressure[i];
+}
+
+}  // namespace
+
 double texture_coverage(const SceneFeatures& scene, const FootprintInputs& in) {
   if (!scene.dry_map && !scene.grain) return 1.0;
-  const double from_speed = scene.dry_speed * in.speed;
   auto kept = [&](std::size_t i, double onset, double pressure) {
-    return 1.0 - std::clamp(1.0 - in.wet[i] / onset + from_speed - pressure * in.pressure[i], 0.0, 1.0);
+    return 1.0 - std::clamp(node_threshold(scene, in, i, onset, pressure), 0.0, 1.0);
   };
   double sum = 0.0;
   int touching = 0;
@@ -124,7 +134,7 @@ void FootprintPass::set_texture_uniforms(const FootprintInputs& in) {
   const double from_speed = scene_.dry_speed * in.speed;
   auto opens = [&](double onset, double pressure) {
     for (std::size_t i = 0; i < in.wet.size(); ++i)
-      if (1.0 - in.wet[i] / onset + from_speed - pressure * in.pressure[i] > 0.0) return true;
+      if (node_threshold(scene_, in, i, onset, pressure) > 0.0) return true;
     return false;
   };
   const int dry = (scene_.dry_map && opens(scene_.dry_onset, scene_.dry_pressure)) ? 1 : 0;

@@ -72,9 +72,8 @@ class FootprintPass {
   GLuint prog_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0;
   // bytes allocated to vbo and ibo: a deposit that fits writes into them (glBufferSubData)
   // rather than allocating new storage each frame, which llvmpipe clears and copies (~7% of a
-  // 1024 px deposit's instructions, counted under valgrind).  With depletion the last frame
-  // was read back, so the buffers are idle; without it llvmpipe flushes the frame first (the
-  // same time and pixels)
+  // 1024 px deposit's instructions, counted under valgrind); llvmpipe flushes the last frame
+  // before the buffers are written again (the same time and pixels)
   GLsizeiptr vbo_bytes_ = 0, ibo_bytes_ = 0;
   GLint u_blends_ = -1, u_slides_ = -1, u_first_ = -1, u_shift_ = -1, u_view_ = -1, u_soak_ = -1;
   GLint u_nodes_ = -1, u_wet_ = -1, u_press_ = -1, u_color_ = -1, u_soak_shift_ = -1, u_density_ = -1;

@@ -34,7 +34,7 @@ uniform vec4 u_frame;   // (centre x mm, centre y mm, unit travel direction x, y
 uniform float u_frame_s;  // mm the centre has travelled since the stroke began
 out vec2 v_st;          // (along, across) mm
 #endif
-#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+#if defined(USE_DRY) || defined(USE_GRAIN)
 // wetness and pressure per spine node, interpolated here at the vertex's s: the rings include
 // every node (s = i / n), so no triangle straddles one and the linear interpolation across the
 // triangle is the piecewise-linear profile itself (and the fragment shader does no indexing)
@@ -70,7 +70,7 @@ void main() {
 #endif
   p.xy += shift;
   v_uv = a_uv;
-#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+#if defined(USE_DRY) || defined(USE_GRAIN)
   v_wet = along(a_uv.x, true);
   v_press = along(a_uv.x, false);
 #endif
@@ -88,7 +88,7 @@ inline constexpr const char* kFootprintFragment = R"(#version 330 core
 in vec2 v_uv;
 in float v_z;
 in vec2 v_mm;
-#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
+#if defined(USE_DRY) || defined(USE_GRAIN)
 in float v_wet;               // wetness of the spine at this fragment's s, [0, 1]
 in float v_press;             // pressure, [0, 1]
 #endif
@@ -192,10 +192,8 @@ void main() {
     a *= 1.0 - gap;
   }
 #endif
-#if defined(USE_DRY) || defined(USE_GRAIN) || defined(USE_DEPLETION)
-  float wet = v_wet;
-#endif
 #if defined(USE_DRY) || defined(USE_GRAIN)
+  float wet = v_wet;
   float press = v_press;
 #endif
 #ifdef USE_DRY

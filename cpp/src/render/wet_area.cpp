@@ -20,41 +20,50 @@ int floor_div(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 void WetArea::clear() { blocks_.clear(); }
 
-double WetArea::raise(int cx, int cy, float density) {
-  const int bx = floor_div(cx, kBlock), by = floor_div(cy, kBlock);
-  std::vector<float>& b = blocks_[block_key(bx, by)];
-  if (b.empty()) b.assign(static_cast<std::size_t>(kBlock) * kBlock, 0.0f);
-  float& d = b[static_cast<std::size_t>(cy - by * kBlock) * kBlock + (cx - bx * kBlock)];
-  if (density <= d) return 0.0;
-  const double gain = density - d;
-  d = density;
+double WetArea::raise_run(int cy, double xa, double xb, float density) {
+  // the cells of row cy whose centres lie in [xa, xb) mm, a block looked up once per block
+  double gain = 0.0;
+  const int by = floor_div(cy, kBlock);
+  float* row = nullptr;
+  int bx = 0;
+  for (int cx = static_cast<int>(std::ceil(xa / cell_ - 0.5)); (cx + 0.5) * cell_ < xb; ++cx) {
+    if (row == nullptr || floor_div(cx, kBlock) != bx) {
+      bx = floor_div(cx, kBlock);
+      std::vector<float>& b = blocks_[block_key(bx, by)];
+      if (b.empty()) b.assign(static_cast<std::size_t>(kBlock) * kBlock, 0.0f);
+      row = &b[static_cast<std::size_t>(cy - by * kBlock) * kBlock];
+    }
+    float& d = row[cx - bx * kBlock];
+    if (density > d) {
+      gain += density - d;
+      d = density;
+    }
+  }
   return gain;
 }
 
 double WetArea::fill(const Loops& loops, const Eigen::Vector2d& offset, float density) {
-  double ylo = HUGE_VAL, yhi = -HUGE_VAL;
+  // each edge's crossings with the rows of cell centres, y = (cy + 1/2) cell, it spans, as (cy, x mm)
+  hits_.clear();
   for (const auto& l : loops)
-    if (l.rows() > 0) {
-      ylo = std::min(ylo, l.col(1).minCoeff() + offset.y());
-      yhi = std::max(yhi, l.col(1).maxCoeff() + offset.y());
-    }
-  if (!(ylo < yhi)) return 0.0;
-  double gain = 0.0;
-  // rows of cells whose centres (cy + 1/2) cell lie within the loops' extent
-  for (int cy = static_cast<int>(std::ceil(ylo / cell_ - 0.5)); (cy + 0.5) * cell_ <= yhi; ++cy) {
-    const double y = (cy + 0.5) * cell_ - offset.y();
-    xs_.clear();
-    for (const auto& l : loops)
-      for (Eigen::Index i = 0, n = l.rows(); i < n; ++i) {
-        const double x0 = l(i, 0), y0 = l(i, 1), x1 = l((i + 1) % n, 0), y1 = l((i + 1) % n, 1);
+    for (Eigen::Index i = 0, n = l.rows(); i < n; ++i) {
+      const double x0 = l(i, 0), y0 = l(i, 1), x1 = l((i + 1) % n, 0), y1 = l((i + 1) % n, 1);
+      const double ya = std::min(y0, y1) + offset.y(), yb = std::max(y0, y1) + offset.y();
+      for (int cy = static_cast<int>(std::floor(ya / cell_ - 0.5)); (cy - 0.5) * cell_ <= yb; ++cy) {
+        const double y = (cy + 0.5) * cell_ - offset.y();
         // the half-open rule: an edge counts the rows from its lower end up to, not at, its upper
-        if ((y0 <= y) != (y1 <= y)) xs_.push_back(x0 + (y - y0) / (y1 - y0) * (x1 - x0) + offset.x());
+        if ((y0 <= y) != (y1 <= y)) hits_.emplace_back(cy, x0 + (y - y0) / (y1 - y0) * (x1 - x0) + offset.x());
       }
-    std::sort(xs_.begin(), xs_.end());
-    // inside between crossings 0-1, 2-3, ...: the cells whose centres lie there
-    for (std::size_t k = 0; k + 1 < xs_.size(); k += 2)
-      for (int cx = static_cast<int>(std::ceil(xs_[k] / cell_ - 0.5)); (cx + 0.5) * cell_ < xs_[k + 1]; ++cx)
-        gain += raise(cx, cy, density);
+    }
+  std::sort(hits_.begin(), hits_.end());
+  // row by row, inside between crossings 0-1, 2-3, ...: the cells whose centres lie there
+  double gain = 0.0;
+  for (std::size_t a = 0; a < hits_.size();) {
+    std::size_t b = a;
+    while (b < hits_.size() && hits_[b].first == hits_[a].first) ++b;
+    for (std::size_t k = a; k + 1 < b; k += 2)
+      gain += raise_run(hits_[a].first, hits_[k].second, hits_[k + 1].second, density);
+    a = b;
   }
   return gain;
 }

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "brushwork/brush.hpp"
@@ -32,11 +33,11 @@ class WetArea {
   // the cells whose centres lie inside `loops` moved by `offset` (even-odd rule), raised to
   // `density`; the gain in cell units
   double fill(const Loops& loops, const Eigen::Vector2d& offset, float density);
-  double raise(int cx, int cy, float density);  // one cell; its gain
+  double raise_run(int cy, double xa, double xb, float density);  // a run of one row; its gain
 
   double cell_;
   std::unordered_map<std::int64_t, std::vector<float>> blocks_;  // (kBlock, kBlock) densities each
-  std::vector<double> xs_;  // scratch: one row's crossings, mm
+  std::vector<std::pair<int, double>> hits_;  // scratch: the loops' crossings (row, x mm)
 };
 
 }  // namespace brushwork
