@@ -108,36 +108,39 @@ def test_scene_rejects_unknown_and_out_of_range_settings():
         bw.Scene(dry_map=True, dry_onset=2.0)
     with pytest.raises(ValueError, match="samples"):
         bw.Scene(samples=3)
-    for bad in (-1.0, 0.2, float("nan")):
-        with pytest.raises(ValueError, match="mesh_px"):
-            bw.Scene(mesh_px=bad)
+    for bad in (-1.0, 0.01, 20.0, float("nan")):
+        with pytest.raises(ValueError, match="mesh_mm"):
+            bw.Scene(mesh_mm=bad)
 
 
-def test_the_render_mesh_is_as_fine_as_the_resolution_needs():
-    small = bw.Brush("small").model
+def test_the_render_mesh_is_chosen_in_millimetres_the_same_at_every_output_size():
+    small, large = bw.Brush("small").model, bw.Brush("large").model
     caps = bw.Scene()
-    def mesh(px_per_mm, **scene):
-        opt = bw.Paper(20, 20, px_per_mm, scene=bw.Scene(**scene)).mesh_options(small)
+    def mesh(model, px_per_mm, **scene):
+        opt = bw.Paper(20, 20, px_per_mm, scene=bw.Scene(**scene)).mesh_options(model)
         return opt.rings_per_segment, opt.around
-    coarse, batch, fine = mesh(2.0), mesh(10.24), mesh(40.0)
-    assert coarse[0] < batch[0] <= fine[0] and coarse[1] < batch[1] < fine[1]
-    assert fine == (caps.mesh_rings, caps.mesh_around)            # the caps bind at high resolution
-    assert mesh(10.24, mesh_px=0.0) == (caps.mesh_rings, caps.mesh_around)
-    assert mesh(10.24, mesh_rings=3, mesh_around=16) == (3, 16)
-    assert batch[1] % 4 == 0 and coarse[1] >= 8 and coarse[0] >= 1
+    # the output only samples the surface: one mesh at 2 to 40 px/mm
+    assert mesh(small, 2.0) == mesh(small, 5.12) == mesh(small, 10.24) == mesh(small, 40.0)
+    fine, coarse = mesh(small, 10.24, mesh_mm=0.3), mesh(small, 10.24, mesh_mm=2.0)
+    assert coarse[0] < fine[0] and coarse[1] < mesh(small, 10.24)[1] < fine[1]
+    assert mesh(small, 10.24)[1] < mesh(large, 10.24)[1]           # a wider belly, more vertices around
+    assert mesh(large, 10.24, mesh_mm=0.1) == (caps.mesh_rings, caps.mesh_around)   # the caps bind
+    assert mesh(small, 10.24, mesh_mm=0.0) == (caps.mesh_rings, caps.mesh_around)
+    assert mesh(small, 10.24, mesh_rings=3, mesh_around=16) == (3, 16)
+    assert fine[1] % 4 == 0 and coarse[1] >= 8 and coarse[0] >= 1
 
 
 def test_a_coarse_render_mesh_lays_the_ink_of_a_fine_one():
     # the small brush's stroke at a batch's 1024 px per 100 mm: the default mesh (coarser than the
-    # caps there), the caps' mesh and a much finer one.  Each ring keeps its section's area, so
+    # caps), the caps' mesh and a much finer one.  Each ring keeps its section's area, so
     # the coarse mesh loses little ink, and its ink is within 3% (L1) of the fine mesh's (2.3%,
     # the caps' 1.6%: a spread section resting on the paper is a thin ellipse, whose ends a
     # polygon of equal angles rounds off; see bench render's mesh table)
     model = bw.BrushModel.preset("small")
     poses = straight_stroke(model, start=(20, 50), length_mm=50, step_mm=1.0, press=0.25)
     inks = {}
-    for name, scene in (("default", bw.Scene()), ("caps", bw.Scene(mesh_px=0.0)),
-                        ("fine", bw.Scene(mesh_rings=16, mesh_around=128, mesh_px=0.0))):
+    for name, scene in (("default", bw.Scene()), ("caps", bw.Scene(mesh_mm=0.0)),
+                        ("fine", bw.Scene(mesh_rings=16, mesh_around=128, mesh_mm=0.0))):
         paper = bw.Paper(100, 100, 10.24, scene=scene)
         draw(paper, bw.Brush(model), poses)
         inks[name] = paper.ink()
@@ -364,24 +367,25 @@ def test_depletion_conserves_ink():
 
 def test_the_ink_spent_does_not_depend_on_the_resolution():
     """The brush spends the ink of the paper it wets, measured on the paper in millimetres: a
-    depleting stroke leaves the brush in the same state at 10 and 40 px/mm, and its ink there
-    agrees."""
+    depleting stroke leaves the brush in the same state at 5 and 20 px/mm (512 and 2048 px
+    for a 100 mm em), and its ink there agrees: the render mesh is the same at both (one sample
+    a pixel, as the writing styles draw)."""
     model = bw.BrushModel.preset("small")
     poses = straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3, heading_deg=5)
     spent, states, masks = {}, {}, {}
-    for ppm in (10, 40):
+    for ppm in (5, 20):
         brush = bw.Brush(model)
         brush.load_ink(total_mm2=150.0)
-        paper = bw.Paper(120, 30, ppm, scene=bw.Scene(depletion=True))
+        paper = bw.Paper(120, 30, ppm, scene=bw.Scene(depletion=True, samples=1))
         spent[ppm] = [s.deposited for s in draw(paper, brush, poses)]
         states[ppm] = (brush.skeleton(), brush.wetness.copy(), brush.ink.load.copy())
         ink = paper.ink()
-        f = ppm // 10
+        f = ppm // 5
         masks[ppm] = ink.reshape(ink.shape[0] // f, f, ink.shape[1] // f, f).mean(axis=(1, 3)) > MASK_THRESHOLD
-    assert spent[10] == spent[40] and sum(spent[10]) > 50.0
-    for a, b in zip(states[10], states[40]):
+    assert spent[5] == spent[20] and sum(spent[5]) > 50.0
+    for a, b in zip(states[5], states[20]):
         assert np.array_equal(a, b)
-    assert iou(masks[10], masks[40]) >= MASK_IOU_RESOLUTION
+    assert iou(masks[5], masks[20]) >= MASK_IOU_RESOLUTION
 
 
 def test_the_ink_is_part_of_the_brush_state():

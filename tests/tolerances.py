@@ -28,7 +28,7 @@ def assert_rel_close(name: str, got: np.ndarray, want: np.ndarray, rel: float) -
 INK_AREA_REL = 0.02          # ink area vs the core's footprint polygon at 2048 px
 INK_CONSERVATION_REL = 0.03  # ink on the paper (its pixels) vs ink the brush lost (0.1 mm cells of the
                              # core's footprints, WetArea): 1.5-2.1% measured
-MASK_IOU_RESOLUTION = 0.98   # 1024 px vs 4096 px downsampled
+MASK_IOU_RESOLUTION = 0.98   # one ink at two resolutions, downsampled: 1024 vs 4096 px; a 6 px stroke at 5 vs 20 px/mm, one sample a pixel (0.989)
 MASK_THRESHOLD = 0.5         # ink coverage above which a pixel counts as inked
 MESH_INK_REL = 0.03          # ink of the default render mesh vs a 16 x 128 one at 1024 px (caps: -2.2%)
 MESH_L1_REL = 0.03           # its L1 ink error vs a 16 x 128 one, relative (2.3% measured, caps 1.6%: flattened sections are thin ellipses; 0.8% / 0.55% with round ones)

@@ -97,10 +97,11 @@ struct SceneFeatures {
   std::uint32_t seed = 1;       // procedural fields (split, dry, grain)
   int mesh_rings = 6;           // rings per spine segment of the swept surface (at most)
   int mesh_around = 48;         // vertices around one ring (at most)
-  double mesh_px = 6.0;         // px: the render mesh is as fine as this on the paper, no finer:
+  double mesh_mm = 0.6;         // mm: the render mesh is as fine as this on the paper, no finer:
                                 // rings per segment and vertices around are chosen per brush
-                                // and resolution (longest segment and belly circumference over
-                                // mesh_px), capped by the two above.  0: always the caps.
+                                // (longest segment and belly circumference over mesh_mm),
+                                // capped by the two above; the same at every output size, which
+                                // only samples the surface.  0: always the caps.
                                 // `brushwork bench render` sweeps it (ink error against time)
   int samples = 4;              // multisampling of the stroke layer: 1 (none), 2, 4 or 8 (the
                                 // device's maximum at most).  On a software rasteriser 4x is
@@ -168,7 +169,7 @@ class Paper {
   int tiles() const { return static_cast<int>(tiles_.size()); }
   int samples() const { return samples_; }  // multisampling of the stroke layer
   const SceneFeatures& scene() const { return scene_; }
-  // the render mesh a brush of `model` gets on this paper (see SceneFeatures::mesh_px)
+  // the render mesh a brush of `model` gets on this paper (see SceneFeatures::mesh_mm)
   MeshOptions mesh_options(const BrushModel& model) const;
 
   // (H, W, 4) premultiplied RGBA float32, row 0 at the top of the paper

@@ -84,8 +84,8 @@ void SceneFeatures::validate() const {
   for (const Range& r : ranges) checks::in_range(r.name, r.v, r.lo, r.hi, r.open_low, r.expected);
   checks::count_in_range("scene.mesh_rings", mesh_rings, 1, 64);
   checks::count_in_range("scene.mesh_around", mesh_around, 8, 512);
-  if (!std::isfinite(mesh_px) || (mesh_px != 0.0 && (mesh_px < 0.5 || mesh_px > 100.0)))
-    throw std::invalid_argument("scene.mesh_px = " + std::to_string(mesh_px) + ": expected 0 or 0.5..100");
+  if (!std::isfinite(mesh_mm) || (mesh_mm != 0.0 && (mesh_mm < 0.05 || mesh_mm > 10.0)))
+    throw std::invalid_argument("scene.mesh_mm = " + std::to_string(mesh_mm) + ": expected 0 or 0.05..10");
   if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
     throw std::invalid_argument("scene.samples = " + std::to_string(samples) + ": expected 1, 2, 4 or 8");
 }
@@ -283,7 +283,7 @@ void Paper::resolve_layer(const Rect& rect) {
 }
 
 MeshOptions Paper::mesh_options(const BrushModel& model) const {
-  return mesh_options_for(model, ppm_, scene_.mesh_px, scene_.mesh_rings, scene_.mesh_around);
+  return mesh_options_for(model, scene_.mesh_mm, scene_.mesh_rings, scene_.mesh_around);
 }
 
 void Paper::check_deposit(const Brush& brush, const Ink* ink) const {

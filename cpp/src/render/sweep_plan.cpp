@@ -324,24 +324,27 @@ void count_copies(SweepPlan& plan, const std::vector<double>& pp, const std::vec
 
 }  // namespace
 
-MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double mesh_px, int rings, int around) {
+MeshOptions mesh_options_for(const BrushModel& model, double mesh_mm, int rings, int around) {
   // a software rasteriser pays per triangle more than per pixel: a footprint drawn from 48 x 6
   // rings' 3-4 px triangles costs ~3x what 6 px ones do.  So the mesh is made only as fine as
-  // mesh_px on this paper: the longest spine segment and the belly's circumference 2 pi r
-  // (the widest ring, unpressed) over mesh_px, around rounded up to a multiple of 4.  The
-  // chords of a ring of radius r px with A vertices lie up to r pi^2 / (2 A^2) px inside it
-  // (0.2 px for the small brush's belly at 1024 px and 6 px); sweep_frame() moves the vertices
-  // out so that each ring keeps its section's area.
+  // mesh_mm: the longest spine segment and the belly's circumference 2 pi r (the widest ring,
+  // unpressed) over mesh_mm, around rounded up to a multiple of 4.  The chords of a ring of
+  // radius r with A vertices lie up to r pi^2 / (2 A^2) inside it (0.02 mm for the small
+  // brush's belly at 0.6 mm); sweep_frame() moves the vertices out so that each ring keeps its
+  // section's area.  The choice is made in millimetres, not pixels: a mesh that coarsened with
+  // the output would draw a different surface at each size (at 512 px per 100 mm the small
+  // brush's ring would have 12 vertices, at 2048 px 48, and the strokes' sides move by a
+  // tenth of a pixel between the two).
   // (A brush keeps its mesh for a whole stroke: the sweep pairs last and this deposit's
   // vertices, so the choice depends on nothing that changes from frame to frame.)
   MeshOptions opt;
   opt.rings_per_segment = rings;
   opt.around = around;
-  if (mesh_px > 0.0) {
-    const double seg_px = model.segment_lengths().maxCoeff() * px_per_mm;
-    const double ring_px = 2.0 * kPi * model.belly_radius * px_per_mm;
-    opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(seg_px / mesh_px)), 1, rings);
-    opt.around = std::clamp(4 * static_cast<int>(std::ceil(ring_px / mesh_px / 4.0)), 8, around);
+  if (mesh_mm > 0.0) {
+    const double seg_mm = model.segment_lengths().maxCoeff();
+    const double ring_mm = 2.0 * kPi * model.belly_radius;
+    opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(seg_mm / mesh_mm)), 1, rings);
+    opt.around = std::clamp(4 * static_cast<int>(std::ceil(ring_mm / mesh_mm / 4.0)), 8, around);
   }
   return opt;
 }

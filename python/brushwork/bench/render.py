@@ -7,7 +7,7 @@ and `Paper.deposit` are taken separately, and "frames/s" is the two together.
 
 The mesh sweep (`mesh_sweep`) deposits one recorded stroke of the glyph driver's brush (the
 small preset, at a batch's 1024 px per 100 mm em) through render meshes of decreasing fineness
-(`Scene.mesh_px`) and scores each against a much finer mesh: the ink's L1 error relative to the
+(`Scene.mesh_mm`) and scores each against a much finer mesh: the ink's L1 error relative to the
 reference's ink, the ink lost (the chords of a coarse ring lie inside the surface), and the
 deposit's time.
 """
@@ -83,8 +83,8 @@ def run(px: int = 2048, frames: int = 320, repeats: int = 3, progress=None) -> d
             "renderer": info["renderer"], "rows": rows}
 
 
-MESH_PX = (0.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0)   # 0: the caps (6 rings per segment, 48 around)
-REFERENCE_MESH = {"mesh_rings": 16, "mesh_around": 128, "mesh_px": 0.0}
+MESH_MM = (0.0, 0.3, 0.4, 0.6, 0.8, 1.2, 1.6)   # 0: the caps (6 rings per segment, 48 around)
+REFERENCE_MESH = {"mesh_rings": 16, "mesh_around": 128, "mesh_mm": 0.0}
 
 
 def _mesh_stroke_ink(scene: Scene, poses: list, px_per_mm: float, repeats: int) -> tuple[np.ndarray, float]:
@@ -108,8 +108,8 @@ def _mesh_stroke_ink(scene: Scene, poses: list, px_per_mm: float, repeats: int) 
 
 
 def mesh_sweep(px: int = 1024, frames: int = 320, repeats: int = 3, progress=None) -> dict:
-    """Ink error against deposit time for each `Scene.mesh_px` in MESH_PX (the default marked),
-    against REFERENCE_MESH. Returns {"px", "frames", "default_mesh_px", "rows": [{mesh_px,
+    """Ink error against deposit time for each `Scene.mesh_mm` in MESH_MM (the default marked),
+    against REFERENCE_MESH. Returns {"px", "frames", "default_mesh_mm", "rows": [{mesh_mm,
     rings, around, deposit_ms_p50, ink_l1_rel, ink_lost_rel, default}]}."""
     if px < 64 or px > 8192:
         raise ValueError(f"px = {px}: expected 64..8192")
@@ -117,31 +117,31 @@ def mesh_sweep(px: int = 1024, frames: int = 320, repeats: int = 3, progress=Non
     poses = _poses(Brush("small"), frames)
     ref, ref_ms = _mesh_stroke_ink(Scene(**REFERENCE_MESH), poses, ppm, 1)
     ref_sum = float(ref.sum())
-    default = Scene().mesh_px
+    default = Scene().mesh_mm
     rows = []
-    for mesh_px in MESH_PX:
-        scene = Scene(mesh_px=mesh_px)
+    for mesh_mm in MESH_MM:
+        scene = Scene(mesh_mm=mesh_mm)
         ink, ms = _mesh_stroke_ink(scene, poses, ppm, repeats)
         opt = Paper(10.0, 10.0, ppm, scene=scene).mesh_options(Brush("small").model)
-        rows.append({"mesh_px": mesh_px, "rings": opt.rings_per_segment, "around": opt.around,
+        rows.append({"mesh_mm": mesh_mm, "rings": opt.rings_per_segment, "around": opt.around,
                      "deposit_ms_p50": ms,
                      "ink_l1_rel": float(np.abs(ink - ref).sum()) / ref_sum,
                      "ink_lost_rel": 1.0 - float(ink.sum()) / ref_sum,
-                     "default": mesh_px == default})
+                     "default": mesh_mm == default})
         if progress:
-            progress(f"mesh_px {mesh_px:g}: {ms:.2f} ms a deposit, ink error {rows[-1]['ink_l1_rel']:.4f}")
-    return {"px": px, "frames": frames, "repeats": repeats, "default_mesh_px": default,
+            progress(f"mesh_mm {mesh_mm:g}: {ms:.2f} ms a deposit, ink error {rows[-1]['ink_l1_rel']:.4f}")
+    return {"px": px, "frames": frames, "repeats": repeats, "default_mesh_mm": default,
             "reference": REFERENCE_MESH, "reference_deposit_ms_p50": ref_ms, "rows": rows}
 
 
 def mesh_table(result: dict) -> str:
     from .report import markdown_table
 
-    rows = [{**r, "mesh_px": f"{r['mesh_px']:g}" + (" (default)" if r["default"] else "") +
-             (" = the caps" if r["mesh_px"] == 0 else "")} for r in result["rows"]]
+    rows = [{**r, "mesh_mm": f"{r['mesh_mm']:g}" + (" (default)" if r["default"] else "") +
+             (" = the caps" if r["mesh_mm"] == 0 else "")} for r in result["rows"]]
     text = markdown_table(
-        rows, ["mesh_px", "rings", "around", "deposit_ms_p50", "ink_l1_rel", "ink_lost_rel"],
-        ["mesh_px", "rings per segment", "around", "deposit ms (p50)", "ink L1 error (rel.)",
+        rows, ["mesh_mm", "rings", "around", "deposit_ms_p50", "ink_l1_rel", "ink_lost_rel"],
+        ["mesh_mm", "rings per segment", "around", "deposit ms (p50)", "ink L1 error (rel.)",
          "ink lost (rel.)"])
     ref = result["reference"]
     return (text + f"\n\nsmall brush, press-drag-turn-lift, {result['frames']} frames, {result['px']} px per "
