@@ -31,6 +31,7 @@ INK_CONSERVATION_REL = 0.03  # ink on the paper (its pixels) vs ink the brush lo
 MASK_IOU_RESOLUTION = 0.98   # one ink at two resolutions, downsampled: 1024 vs 4096 px; a 6 px stroke at 5 vs 20 px/mm, one sample a pixel (0.989)
 MASK_THRESHOLD = 0.5         # ink coverage above which a pixel counts as inked
 MESH_INK_REL = 0.03          # ink of the default render mesh vs a 16 x 128 one at 1024 px (caps: -2.2%)
+ARC_EDGE_ROUGHNESS_PX = 0.3  # an arc's contour against its smoothed copy at 10 px/mm (0.22 measured; saw teeth a frame apart: 0.44)
 MESH_L1_REL = 0.03           # its L1 ink error vs a 16 x 128 one, relative (2.3% measured, caps 1.6%: flattened sections are thin ellipses; 0.8% / 0.55% with round ones)
 FOOTPRINT_DIP = 0.1          # a static press may lose this fraction of area or width at one deeper step
                              # (path-dependent buckling of the soft tail)
