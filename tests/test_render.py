@@ -285,7 +285,7 @@ def test_the_sweep_plan_needs_no_gl():
     assert step["slides"] == (0, 0) and step["shift_mm"] == (0.0, 0.0)
     assert step["travel_mm"] == pytest.approx(model.belly_radius, rel=0.1)
     assert step["blends"] >= math.ceil(step["travel_mm"] * ppm / 2.5)
-    assert step["faces"] > 0
+    assert 0 < step["near_faces"] <= step["faces"]
     # the rectangle covers the footprint of both deposits
     x0, y0, x1, y1 = step["rect"]
     for b in (last, brush):
@@ -389,9 +389,9 @@ def test_the_ink_spent_does_not_depend_on_the_resolution():
 
 
 def test_a_turning_stroke_keeps_both_edges_smooth():
-    """Every blend between two deposits draws the whole part of the surface near the paper: a
-    turning stroke's inner edge, where the footprint between two frames reaches past both, has
-    no saw teeth a frame apart (one sample a pixel, as the writing styles draw)."""
+    """The blends between two deposits draw a band of the surface near the paper wider than
+    their step: a turning stroke's inner edge, where the footprint between two frames reaches
+    past both, has no saw teeth a frame apart (one sample a pixel, as the writing styles draw)."""
     from brushwork.glyphs.score import edge_figures
 
     model = bw.BrushModel.preset("small")

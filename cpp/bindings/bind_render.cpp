@@ -47,6 +47,7 @@ py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm
   d["new_stroke"] = plan.contact && !plan.continues;
   d["blends"] = plan.blends;
   d["slides"] = py::make_tuple(plan.slides_prev, plan.slides_cur);
+  d["near_faces"] = plan.near / 3;
   d["faces"] = plan.all / 3;
   d["shift_mm"] = py::make_tuple(plan.shift_x, plan.shift_y);
   d["travel_mm"] = plan.travel;
@@ -155,7 +156,8 @@ deposited: mm^2 given to the paper so far (depletion scenes).)doc")
         py::arg("excess") = 0.0, R"doc(
 The footprint pass's plan from `last` (a brush at the last deposit; None: a stroke starts) to
 `brush`, without drawing: dict of contact, new_stroke, blends (sub-steps K), slides (copies of the
-last and this part), faces (triangles drawn by each blend), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws.)doc");
+last and this part), near_faces and faces (triangles drawn by the blends before t = 1 and at
+t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws.)doc");
 
   py::class_<Paper>(m, "Paper")
       .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),

@@ -32,12 +32,13 @@ struct SweepFrame {
 struct SweepPlan {
   bool contact = false;    // some of this deposit's surface is below the paper
   bool continues = false;  // the sweep goes on from the last deposit (false: a stroke starts)
-  // (I) vertex indices, triangles in three runs: the faces that reach the paper in either
-  // deposit (drawn at every blend), the last deposit's part below the paper and this one's (each
+  // (I) vertex indices, triangles in four runs: the near faces (drawn at every blend), the inner
+  // faces (drawn at t = 1 only), the last deposit's part below the paper and this one's (each
   // drawn by its slid copies; empty runs when that part does not slide)
   std::vector<std::uint32_t> indices;
-  std::size_t all = 0;            // indices in the first run
-  std::size_t prev = 0, cur = 0;  // indices in the second and the third run
+  std::size_t near = 0;           // indices in the first run
+  std::size_t all = 0;            // indices in the first two runs
+  std::size_t prev = 0, cur = 0;  // indices in the third and the fourth run
   int blends = 0;                 // K: sub-steps of the blend, t = 1/K .. 1
   int slides_prev = 0, slides_cur = 0;  // slid copies of the last and this deposit's part
   double shift_x = 0.0, shift_y = 0.0;  // mm the parts slide: the move of the footprint's centre

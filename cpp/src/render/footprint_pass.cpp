@@ -197,15 +197,17 @@ void FootprintPass::draw(const SweepPlan& plan, const LayerTile& t) {
   gl::Uniform1i(u_blends_, K);
   gl::Uniform2i(u_slides_, plan.slides_prev, plan.slides_cur);
   gl::Uniform2f(u_shift_, static_cast<float>(plan.shift_x), static_cast<float>(plan.shift_y));
-  // instanced draws: the K blends, the last part slid and this part slid over theirs;
-  // u_first numbers the instances on from the draws before
+  // instanced draws: the blends before t = 1 over the near faces, t = 1 over all, the last
+  // part slid and this part slid over theirs; u_first numbers the instances on from the
+  // draws before
   auto run = [&](std::size_t offset, std::size_t size, int first, int count) {
     if (count <= 0 || size == 0) return;
     gl::Uniform1i(u_first_, first);
     gl::DrawElementsInstanced(GL_TRIANGLES, static_cast<GLsizei>(size), GL_UNSIGNED_INT,
                               reinterpret_cast<const void*>(offset * sizeof(std::uint32_t)), count);
   };
-  run(0, plan.all, 0, K);
+  run(0, plan.near, 0, K - 1);
+  run(0, plan.all, K - 1, 1);
   run(plan.all, plan.prev, K, plan.slides_prev);
   run(plan.all + plan.prev, plan.cur, K + plan.slides_prev, plan.slides_cur);
 }
