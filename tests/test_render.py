@@ -113,14 +113,16 @@ def test_scene_rejects_unknown_and_out_of_range_settings():
             bw.Scene(mesh_mm=bad)
 
 
-def test_the_render_mesh_is_chosen_in_millimetres_the_same_at_every_output_size():
+def test_the_render_mesh_is_chosen_in_millimetres_the_same_from_5_px_per_mm_up():
     small, large = bw.Brush("small").model, bw.Brush("large").model
     caps = bw.Scene()
     def mesh(model, px_per_mm, **scene):
         opt = bw.Paper(20, 20, px_per_mm, scene=bw.Scene(**scene)).mesh_options(model)
         return opt.rings_per_segment, opt.around
-    # the output only samples the surface: one mesh at 2 to 40 px/mm
-    assert mesh(small, 2.0) == mesh(small, 5.12) == mesh(small, 10.24) == mesh(small, 40.0)
+    # the output only samples the surface: one mesh from 5 px/mm (3 px to mesh_mm) to 40 px/mm,
+    # coarser below, where its edges would be under 3 px
+    assert mesh(small, 5.0) == mesh(small, 5.12) == mesh(small, 10.24) == mesh(small, 40.0)
+    assert mesh(small, 2.0)[1] < mesh(small, 5.0)[1]
     fine, coarse = mesh(small, 10.24, mesh_mm=0.3), mesh(small, 10.24, mesh_mm=2.0)
     assert coarse[0] < fine[0] and coarse[1] < mesh(small, 10.24)[1] < fine[1]
     assert mesh(small, 10.24)[1] < mesh(large, 10.24)[1]           # a wider belly, more vertices around

@@ -34,7 +34,7 @@ py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm
                          const SceneFeatures& scene, double excess) {
   scene.validate();
   const MeshOptions opt =
-      mesh_options_for(brush.model(), scene.mesh_mm, scene.mesh_rings, scene.mesh_around);
+      mesh_options_for(brush.model(), px_per_mm, scene.mesh_mm, scene.mesh_rings, scene.mesh_around);
   const double soak = scene.soaked_tip ? scene.soak_expand * excess : 0.0;
   const SweepFrame cur = sweep_frame(brush, opt, soak);
   SweepFrame from;

@@ -27,7 +27,7 @@ PARAMETERS = {
     "seed": ("-", "seed of the procedural split, dry and grain fields"),
     "mesh_rings": ("-", "rings per spine segment of the swept surface, at most"),
     "mesh_around": ("-", "vertices around one ring, at most"),
-    "mesh_mm": ("mm", "the render mesh is this fine (segment and belly circumference over it), up to the two caps, at every output size; 0: the caps"),
+    "mesh_mm": ("mm", "the render mesh is this fine (segment and belly circumference over it), up to the two caps, at every output size from 3 px to mesh_mm up; 0: the caps"),
     "samples": ("-", "multisampling of the stroke layer: 1, 2, 4 (default) or 8; 1 is ~2.5x faster on a software renderer"),
 }
 

@@ -100,8 +100,9 @@ struct SceneFeatures {
   double mesh_mm = 0.6;         // mm: the render mesh is as fine as this on the paper, no finer:
                                 // rings per segment and vertices around are chosen per brush
                                 // (longest segment and belly circumference over mesh_mm),
-                                // capped by the two above; the same at every output size, which
-                                // only samples the surface.  0: always the caps.
+                                // capped by the two above; the same at every output size from
+                                // 3 px to mesh_mm up (5 px/mm), which only samples the surface,
+                                // its edges kept at 3 px below.  0: always the caps.
                                 // `brushwork bench render` sweeps it (ink error against time)
   int samples = 4;              // multisampling of the stroke layer: 1 (none), 2, 4 or 8 (the
                                 // device's maximum at most).  On a software rasteriser 4x is

@@ -48,9 +48,10 @@ struct SweepPlan {
   bool draws() const { return rect[2] > rect[0] && rect[3] > rect[1] && all > 0; }
 };
 
-// the render mesh of a brush of `model`: as fine as `mesh_mm` (0: always the caps), at most
-// `rings` rings per spine segment and `around` vertices around; the same on any paper
-MeshOptions mesh_options_for(const BrushModel& model, double mesh_mm, int rings, int around);
+// the render mesh of a brush of `model` on paper sampled at `px_per_mm`: as fine as `mesh_mm`
+// (0: always the caps), at most `rings` rings per spine segment and `around` vertices around;
+// the same on any paper of 3 px to mesh_mm or finer, coarser only below
+MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double mesh_mm, int rings, int around);
 
 // the brush's surface as the footprint pass draws it, the tip grown by `soak`
 SweepFrame sweep_frame(const Brush& brush, const MeshOptions& opt, double soak);

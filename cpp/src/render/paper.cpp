@@ -283,7 +283,7 @@ void Paper::resolve_layer(const Rect& rect) {
 }
 
 MeshOptions Paper::mesh_options(const BrushModel& model) const {
-  return mesh_options_for(model, scene_.mesh_mm, scene_.mesh_rings, scene_.mesh_around);
+  return mesh_options_for(model, ppm_, scene_.mesh_mm, scene_.mesh_rings, scene_.mesh_around);
 }
 
 void Paper::check_deposit(const Brush& brush, const Ink* ink) const {

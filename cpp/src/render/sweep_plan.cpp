@@ -29,6 +29,7 @@ constexpr double kReachPx = 1.0;     // px: a face lower than this above the pap
                                      // (half a pixel of antialiasing above the paper included)
 constexpr double kInnerPx = 3.0;     // px: a face this deep below the paper in both deposits is inner
                                      // (a band this deep is wider than a blend's step; see sort_faces)
+constexpr double kMeshMinPx = 3.0;   // px: the render mesh's edges are no shorter on the paper
 constexpr double kNeck = 0.5;        // fraction of the width a blend keeps without slides
 constexpr int kNeckSamples = 8;      // the blend's width is checked at t = 1/8 .. 7/8
 constexpr double kMinMovePx = 0.5;   // px: a footprint's centre moving less needs no slides
@@ -329,7 +330,7 @@ void count_copies(SweepPlan& plan, const std::vector<double>& pp, const std::vec
 
 }  // namespace
 
-MeshOptions mesh_options_for(const BrushModel& model, double mesh_mm, int rings, int around) {
+MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double mesh_mm, int rings, int around) {
   // a software rasteriser pays per triangle more than per pixel: a footprint drawn from 48 x 6
   // rings' 3-4 px triangles costs ~3x what 6 px ones do.  So the mesh is made only as fine as
   // mesh_mm: the longest spine segment and the belly's circumference 2 pi r (the widest ring,
@@ -339,13 +340,17 @@ MeshOptions mesh_options_for(const BrushModel& model, double mesh_mm, int rings,
   // section's area.  The choice is made in millimetres, not pixels: a mesh that coarsened with
   // the output would draw a different surface at each size (at 512 px per 100 mm the small
   // brush's ring would have 12 vertices, at 2048 px 48, and the strokes' sides move by a
-  // tenth of a pixel between the two).
+  // tenth of a pixel between the two).  Only on paper coarser than 3 px to mesh_mm (5 px/mm at
+  // the default, 512 px for a 100 mm em) does the mesh coarsen, its edges kept at kMeshMinPx:
+  // triangles under 3 px add nothing a pixel shows there, and a batch of 256 px characters
+  // ran at ~60% of its speed with them (2 jobs, single-threaded llvmpipe).
   // (A brush keeps its mesh for a whole stroke: the sweep pairs last and this deposit's
   // vertices, so the choice depends on nothing that changes from frame to frame.)
   MeshOptions opt;
   opt.rings_per_segment = rings;
   opt.around = around;
   if (mesh_mm > 0.0) {
+    mesh_mm = std::max(mesh_mm, kMeshMinPx / px_per_mm);
     const double seg_mm = model.segment_lengths().maxCoeff();
     const double ring_mm = 2.0 * kPi * model.belly_radius;
     opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(seg_mm / mesh_mm)), 1, rings);
