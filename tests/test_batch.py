@@ -784,8 +784,9 @@ def test_a_straight_strokes_sides_stay_straight_at_the_pixel(points, kind):
     rows = np.arange(ink.shape[0])[:, None]
     for side in (np.where(body, rows, ink.shape[0]).min(axis=0), np.where(body, rows, -1).max(axis=0)):
         assert side.min() >= 0 and side.max() < ink.shape[0]
-        # (a comb steps at nearly every column; the width's own hunting, a few in ten)
-        assert np.mean(np.diff(side) != 0) < 0.25, side
+        # (a comb steps at nearly every column; the width's own hunting, a few in ten: where a side
+        # sits by a pixel's centre its sub-pixel ripple, a frame long, flips it up to 3 in 10)
+        assert np.mean(np.diff(side) != 0) < 0.35, side
 
 
 def test_a_stroke_that_starts_on_another_starts_in_its_ink():
