@@ -66,13 +66,16 @@ void place(const std::vector<float>& pos, const std::vector<float>& ctr, const s
 // last deposit's t = 1, drawn then).  The blends are discrete, though: between two of them the
 // outline moves up to kBlendPx, and the near band must be wider than that on the paper or the
 // footprint's inside shows through between the blends.  At the tuft's steep sides a band half
-// a pixel deep is a fraction of a pixel wide: on the inner side of a turn, where the blended
-// footprint reaches past both ends, it left saw teeth a frame apart (a 35 mm arc at 10 px/mm,
-// one sample a pixel: 0.9 px rms; edge roughness 0.44 px, 0.22 with a band 3 px deep, as with
-// every face drawn at every blend).  The deposit then takes ~5% less than drawing them all
-// (`brushwork bench batch`, one process: 0.446 against 0.480 s a character).  The slid copies draw all their faces: there the near band, steep at the
-// tuft's sides, is thinner than the 1.5 px between copies, and the slid parts' inner faces
-// alone filled 1-px lines along the stroke's edges.
+// a pixel deep is a fraction of a pixel wide, and on the inner side of a turn, where the
+// blended footprint reaches past both ends, it left saw teeth a frame apart (a 35 mm arc at
+// 10 px/mm, one sample a pixel: edge roughness 0.44 px; 0.22 with a band 3 px deep, the same as
+// every face drawn at every blend, whose deposit takes ~8% longer: `brushwork bench batch`).
+// A textured deposit spaces its blends wider (kTexturedBlendPx): where a flattened tuft's
+// blended surface bulges past the outline of both ends, the deep faces the band now holds show
+// that spacing as teeth 1-2 px deep along the side (the gallery's panel h).
+// The slid copies draw all their faces: there the near band, steep at the tuft's sides, is
+// thinner than the 1.5 px between copies, and the slid parts' inner faces alone filled 1-px
+// lines along the stroke's edges.
 struct FaceSets {
   std::vector<std::uint32_t> sweep;  // near faces, then inner ones (3 indices a face)
   std::size_t near = 0;              // indices of the near faces
@@ -342,8 +345,8 @@ MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double m
   // brush's ring would have 12 vertices, at 2048 px 48, and the strokes' sides move by a
   // tenth of a pixel between the two).  Only on paper coarser than 3 px to mesh_mm (5 px/mm at
   // the default, 512 px for a 100 mm em) does the mesh coarsen, its edges kept at kMeshMinPx:
-  // triangles under 3 px add nothing a pixel shows there, and a batch of 256 px characters
-  // ran at ~60% of its speed with them (2 jobs, single-threaded llvmpipe).
+  // triangles under 3 px add nothing a pixel shows there, and cost a batch of 256 px
+  // characters a fifth of its speed (2 jobs, single-threaded llvmpipe).
   // (A brush keeps its mesh for a whole stroke: the sweep pairs last and this deposit's
   // vertices, so the choice depends on nothing that changes from frame to frame.)
   MeshOptions opt;
