@@ -27,7 +27,7 @@ def test_gallery_rejects_a_silly_resolution_and_a_missing_folder(tmp_path, capsy
     assert cli.main(["gallery", "-o", str(tmp_path / "g.png"), "--px-per-mm", "500"]) == 2
     assert cli.main(["gallery", "-o", str(tmp_path / "no" / "g.png"), "--px-per-mm", "2"]) == 2
     err = capsys.readouterr().err
-    assert "px-per-mm" in err and "does not exist" in err
+    assert "px-per-mm" in err and "no such folder" in err
 
 
 def test_bench_render_prints_and_writes_both_scenes(tmp_path, capsys):

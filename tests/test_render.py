@@ -9,6 +9,7 @@ import math
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import cv2
 import numpy as np
@@ -642,12 +643,25 @@ def test_the_image_is_the_float_paper_rounded(bits, background):
     assert img[:20, :30, 0].min() > img[:20, :30, 2].max()  # red over blue: RGB order, not BGR
 
 
+def test_save_writes_the_format_its_suffix_names(tmp_path):
+    paper = bw.Paper(40, 30, 8)
+    magic = {".png": b"\x89PNG", ".tif": b"II*\x00", ".jpg": b"\xff\xd8\xff"}
+    for suffix, head in magic.items():
+        path = paper.save(tmp_path / f"p{suffix}")
+        assert Path(path).read_bytes()[:len(head)] == head, suffix
+    with pytest.raises(ValueError, match="cannot write a .gif image"):
+        paper.save(tmp_path / "p.gif")
+    with pytest.raises(ValueError, match="8 bits per channel"):
+        paper.save(tmp_path / "p.jpg", bits=16)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["p.jpg", "p.png", "p.tif"]
+
+
 def test_load_rejects_a_wrong_size_and_save_a_missing_folder(tmp_path):
     paper = bw.Paper(40, 30, 8)
     path = paper.save(tmp_path / "p.png")
     with pytest.raises(ValueError, match="px"):
         bw.Paper(20, 30, 8).load(path)
-    with pytest.raises(ValueError, match="does not exist"):
+    with pytest.raises(FileNotFoundError, match="no such folder"):
         paper.save(tmp_path / "nope" / "p.png")
     with pytest.raises(ValueError, match="not a readable image"):
         (tmp_path / "bad.png").write_bytes(b"not a png")

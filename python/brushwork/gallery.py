@@ -15,8 +15,9 @@ import numpy as np
 
 from . import BrushModel
 from .brush import Brush
+from .files import write_image
+from .paper import Paper
 from .recorded import along_path
-from .paper import Paper, write_png
 from .scene import Scene
 
 CELL_W, CELL_H = 70.0, 50.0   # mm per panel
@@ -139,7 +140,7 @@ def render_gallery(path: str | os.PathLike, px_per_mm: float = 10.0, progress=No
                       (200, 200, 200), max(1, int(scale)))
         cv2.putText(img, f"({sample.key}) {sample.title}", (x0 + int(12 * scale), y0 + int(34 * scale)),
                     cv2.FONT_HERSHEY_SIMPLEX, 0.9 * scale, (90, 90, 90), max(1, int(2 * scale)), cv2.LINE_AA)
-    return write_png(path, img)
+    return write_image(path, img)
 
 
 def render_views(path: str | os.PathLike, width_px: int = 480, height_px: int = 360) -> str:
@@ -157,4 +158,4 @@ def render_views(path: str | os.PathLike, width_px: int = 480, height_px: int = 
         paper.deposit(brush)
     view = BrushView(width_px, height_px)
     images = [view.render(brush, paper, mode=mode) for mode in ("shaded", "outlined", "transparent")]
-    return write_png(path, cv2.cvtColor(np.hstack(images), cv2.COLOR_RGBA2BGR))
+    return write_image(path, cv2.cvtColor(np.hstack(images), cv2.COLOR_RGBA2BGR))

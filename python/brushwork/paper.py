@@ -1,4 +1,4 @@
-"""The paper: float ink on a canvas of any size, PNG in and out (DESIGN's promised `Paper`).
+"""The paper: float ink on a canvas of any size, images in and out (DESIGN's promised `Paper`).
 
 x right, y up, origin at the paper's bottom-left corner, in mm; `ink()` and `rgba()` hand back
 numpy arrays with row 0 at the top of the paper (the way images are stored).
@@ -6,11 +6,11 @@ numpy arrays with row 0 at the top of the paper (the way images are stored).
 from __future__ import annotations
 
 import os
-import tempfile
 
 import numpy as np
 
 from . import _core
+from .files import write_image
 from .scene import Scene
 
 _BACKGROUNDS = ("white", "transparent")
@@ -22,36 +22,6 @@ def _image_io():
     except ImportError as err:  # pragma: no cover - a declared dependency
         raise RuntimeError("PNG input/output needs OpenCV: pip install opencv-python-headless") from err
     return cv2
-
-
-def _publish(tmp: str) -> None:
-    """Give a temporary file (mkstemp makes it 0600) the mode a plain open() would: 0666 - umask."""
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)
-
-
-def write_png(path: str | os.PathLike, bgr: np.ndarray) -> str:
-    """Encode `bgr` (OpenCV channel order, uint8 or uint16) as PNG and put it at `path`
-    atomically (a temporary file in the same folder, then a rename). Returns the path."""
-    cv2 = _image_io()
-    path = os.fspath(path)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise ValueError(f"{path}: folder {folder} does not exist")
-    ok, data = cv2.imencode(".png", bgr)
-    if not ok:
-        raise RuntimeError(f"{path}: PNG encoding failed")
-    fd, tmp = tempfile.mkstemp(suffix=".png", dir=folder, prefix=".brushwork-")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data.tobytes())
-        _publish(tmp)
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-    return path
 
 
 def _check_image(bits: int, background: str) -> None:
@@ -94,10 +64,11 @@ class Paper(_core.Paper):
         return self._image(bits, background == "white", False)
 
     def save(self, path: str | os.PathLike, bits: int = 8, background: str = "white") -> str:
-        """Write a PNG (8- or 16-bit, ink on white or on transparency); atomic: a reader never
-        sees a partial file. Returns the path."""
+        """Write the paper as an image in the format the suffix of `path` names (PNG: 8 or 16
+        bits, ink on white or on transparency); atomic: a reader never sees a partial file.
+        Returns the path."""
         _check_image(bits, background)
-        return write_png(path, self._image(bits, background == "white", True))
+        return write_image(path, self._image(bits, background == "white", True))
 
     def load(self, path: str | os.PathLike) -> None:
         """Replace the paper by a PNG of the same pixel size. An image with alpha is taken as

@@ -12,6 +12,10 @@ import numpy as np
 
 from ._core import BrushModel, Pose
 
+# how far the scripted and driven motions take the brush, in tuft lengths L (root_height's `press`)
+HOVER = 0.1          # L: the straight tuft's tip this far above the paper while the brush travels in the air
+PRESS_MAX = 0.45     # L: the deepest press below first contact a driver asks for (a pen at full pressure)
+
 
 def _lerp(a: float, b: float, t: float) -> float:
     return a + (b - a) * t
@@ -76,7 +80,7 @@ def pressed_drag(model: BrushModel, frames: int = 160, press: float = 0.2, tilt_
     azimuth = heading + 180: the tip is pushed (seed Figure 11b); heading + 90: a biased tip."""
     L = model.tuft_length
     contact_z = root_height(model, tilt_deg, 0.0)
-    z_air, z_press = contact_z + 0.1 * L, root_height(model, tilt_deg, press)
+    z_air, z_press = contact_z + HOVER * L, root_height(model, tilt_deg, press)
     n_press = max(frames // 4, 1)
     h = math.radians(heading_deg)
     poses = []
@@ -146,7 +150,7 @@ def straight_stroke(model: BrushModel, start=(0.0, 0.0), length_mm: float = 60.0
     L = model.tuft_length
     az = heading_deg if azimuth_deg is None else azimuth_deg
     contact_z = root_height(model, tilt_deg, 0.0)
-    z_air, z_press = contact_z + 0.1 * L, root_height(model, tilt_deg, press)
+    z_air, z_press = contact_z + HOVER * L, root_height(model, tilt_deg, press)
     h = math.radians(heading_deg)
     ux, uy = math.cos(h), math.sin(h)
     poses = [Pose((start[0], start[1], _lerp(z_air, z_press, (k + 1) / press_frames)), tilt_deg, az)
@@ -158,13 +162,13 @@ def straight_stroke(model: BrushModel, start=(0.0, 0.0), length_mm: float = 60.0
     for k in range(lift_frames):
         d = length_mm + 0.05 * L * (k + 1)
         poses.append(Pose((start[0] + d * ux, start[1] + d * uy,
-                           _lerp(z_press, z_air + 0.1 * L, (k + 1) / lift_frames)), tilt_deg, az))
+                           _lerp(z_press, z_air + HOVER * L, (k + 1) / lift_frames)), tilt_deg, az))
     return poses
 
 
 def along_path(model: BrushModel, points, press, tilt_deg=15.0, azimuth_deg=None,
                step_mm: float = 0.5, approach_frames: int = 8, lift_frames: int = 6,
-               hover: float = 0.1) -> list[Pose]:
+               hover: float = HOVER) -> list[Pose]:
     """Poses that carry the brush along a polyline on the paper.
 
     points: (k, 2) mm, k >= 2; press: depth below first contact as a fraction of L, a scalar

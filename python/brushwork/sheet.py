@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .paper import write_png
+from .files import write_image
 
 # where Debian/Ubuntu (and a few other systems) put Kai faces; BRUSHWORK_REFERENCE_FONT overrides
 KAI_FONTS = (
@@ -135,4 +135,4 @@ def contact_sheet(cells: list[Cell], path: str | os.PathLike, cell_px: int = 192
             cv2.rectangle(sheet, (x + cell_px, y), (x + 2 * cell_px - 1, y + cell_px - 1), (200, 200, 200), 1)
         sheet[y + cell_px:y + cell_px + label_h, x:x + pair * cell_px] = _label(
             pair * cell_px, label_h, f"U+{ord(cell.char):04X}", cell.note, cell.char, font)[:, :, None]
-    return write_png(path, sheet)
+    return write_image(path, sheet)

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..outline3d.meshfile import SUFFIXES
 from . import report
 
 TOL = 0.015              # of the image size: how far ink may lie from the line it draws
@@ -35,7 +36,6 @@ COHERENCE_PX = 2         # px each mask is widened by before the IoU
 DEPTH_JUMP = 0.02        # of the mesh's diagonal: a jump in depth between neighbouring pixels
 INK = 0.25               # coverage above which a pixel counts as ink
 SYNTH_FACES = 70000
-SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:

@@ -7,7 +7,7 @@ import os
 import sys
 import time
 
-KIND_NAMES = ("silhouette", "boundary", "crease", "suggestive")
+from .lines import KINDS
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -21,7 +21,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     lens.add_argument("--fov", type=float, default=30.0, help="vertical field of view, 1..120 degrees (default 30)")
     lens.add_argument("--orthographic", action="store_true", help="an orthographic camera")
     p.add_argument("--lines", default="silhouette,boundary,crease",
-                   help=f"kinds of line, comma-separated from {','.join(KIND_NAMES)} (default silhouette,boundary,crease)")
+                   help=f"kinds of line, comma-separated from {','.join(KINDS)} (default silhouette,boundary,crease)")
     p.add_argument("--crease-angle", type=float, default=60.0, help="dihedral angle past which an edge is a crease "
                                                                     "(degrees, default 60)")
     p.add_argument("--style", default="baimiao", help="outline style: baimiao, xieyi or a JSON file (default baimiao)")
@@ -35,9 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def _kinds(text: str) -> tuple:
     kinds = tuple(k.strip() for k in text.split(",") if k.strip())
-    bad = [k for k in kinds if k not in KIND_NAMES]
+    bad = [k for k in kinds if k not in KINDS]
     if bad or not kinds:
-        raise ValueError(f"--lines {text!r}: expected names from {', '.join(KIND_NAMES)}")
+        raise ValueError(f"--lines {text!r}: expected names from {', '.join(KINDS)}")
     return kinds
 
 

@@ -8,6 +8,8 @@ import os
 
 import numpy as np
 
+SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")    # the formats load_mesh reads
+
 
 def _face_indices(tokens: list, n: int) -> list | None:
     """0-based vertex indices of an OBJ face's tokens (v, v/t, v/t/n, v//n; negative: from the

@@ -19,7 +19,7 @@ def contact_sheet(meshes: list, styles: list, path: str, size: int = 512, azimut
     """Draw each mesh in each style at `size` px and tile them, labelled; returns the path."""
     import cv2
 
-    from ..paper import write_png
+    from ..files import write_image
     from .draw import View, draw, load_mesh
     from .lines import prepare
     from .strokes import OutlineStyle
@@ -37,7 +37,7 @@ def contact_sheet(meshes: list, styles: list, path: str, size: int = 512, azimut
             cv2.rectangle(img, (0, 0), (size - 1, size - 1), (210, 210, 210), 1)
             cells.append(img)
         rows.append(np.hstack(cells))
-    return write_png(path, np.vstack(rows))
+    return write_image(path, np.vstack(rows))
 
 
 def main(argv=None) -> int:

@@ -22,14 +22,13 @@ import numpy as np
 from .. import _core
 from ..brush import Brush, Pose
 from ..paper import Paper
-from ..recorded import along_path
+from ..recorded import HOVER, along_path
 from ..scene import Scene
 from .lines import KINDS, SILHOUETTE
 
 STYLE_DIR = Path(__file__).with_name("styles")
 APPROACH_FRAMES = 2     # frames of the descent onto the first point
 LIFT_FRAMES = 1         # frames of the lift after the last (one: the tip leaves at once, not flicked forward)
-HOVER = 0.08            # L above first contact between strokes
 ENTRY_START = 0.0       # of the line's press where the tip first touches
 ENTRY_PEAK = 0.4        # of the entry where the entry press is deepest
 OFFSET_GAIN = 0.25      # of the footprint centre's miss added to the root's offset each frame

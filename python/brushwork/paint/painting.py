@@ -15,11 +15,9 @@ import numpy as np
 from .. import BrushModel
 from ..brush import Brush, Pose
 from ..paper import Paper
-from ..recorded import root_height
+from ..recorded import HOVER, PRESS_MAX, root_height
 from ..scene import Scene
 
-PRESS_MAX = 0.4      # L: press below first contact at full pen pressure
-HOVER = 0.1          # L: the straight tuft's tip this far above the paper while the pen is up
 TILT_MAX = 60.0      # deg: steepest handle the pen may ask for
 STEP_MM = 1.0        # mm: a longer move between samples is simulated in frames of at most this
 SUBSTEPS_MAX = 32    # frames one sample is divided into at most

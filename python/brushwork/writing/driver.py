@@ -25,12 +25,11 @@ import numpy as np
 from ..brush import Brush, Pose
 from ..glyphs.score import beaded
 from ..paper import Paper
-from ..recorded import root_height
+from ..recorded import PRESS_MAX, root_height
 from .style import Style, family
 from .targets import _centroid_and_width, stroke_targets
 
 # the driver's constants (L: the tuft length)
-PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
 PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
 HOLD_FRAMES = 3           # frames a pressing brush is pressed deeper at most while it floats off the paper
 TRAVEL_STEP = 4.0         # step_mm: the brush moves this many frame steps per frame in the air

@@ -21,9 +21,13 @@ def check_size(size: int) -> int:
 
 
 def check_samples(samples: int | None) -> int | None:
-    """Multisampling of the stroke layer: None (the style's) or 1, 2, 4, 8."""
-    if samples is not None and samples not in (1, 2, 4, 8):
-        raise ValueError(f"samples {samples}: expected 1, 2, 4 or 8")
+    """Multisampling of the stroke layer: None (the style's) or a count the core's scene takes
+    (SceneFeatures.validate says which), checked before any work."""
+    if samples is not None:
+        try:
+            Scene(samples=samples)
+        except TypeError:
+            raise ValueError(f"samples {samples!r}: not a count of samples") from None
     return samples
 
 
