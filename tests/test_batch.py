@@ -113,8 +113,28 @@ def test_the_style_table_documents_and_validates_the_same_fields(capsys):
     assert {f.name for f in FIELDS} == set(Style.__dataclass_fields__)
     for name in Style.names():              # the shipped styles pass their own table
         Style.load(name)
-    assert run_cli("params", "--style") == 0
+    assert run_cli("params", "--style", "--markdown") == 0
     assert capsys.readouterr().out.strip() == style_table()
+
+
+def test_params_prints_formulas_plainly_and_escapes_them_for_markdown(capsys):
+    from brushwork.bench.report import parameter_table
+
+    assert run_cli("params") == 0
+    plain = capsys.readouterr().out
+    assert "&#124;" not in plain and "kappa |x|^m" in plain
+    assert run_cli("params", "--style") == 0
+    assert "&#124;" not in capsys.readouterr().out
+    assert run_cli("params", "--markdown") == 0
+    assert capsys.readouterr().out.strip() == parameter_table("medium") and "&#124;x&#124;" in parameter_table()
+
+
+def test_render_help_names_every_format_and_the_bundled_medians(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["render", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "one PNG" not in text and "PNG, JPEG, TIFF, BMP or WebP" in text
+    assert "bundled medians: all of GB2312" in text and "medians:PATH" in text
 
 
 def test_render_writes_a_row_of_characters(tmp_path, capsys):
@@ -279,7 +299,7 @@ def test_render_bad_glyph_file_is_one_line_exit_2_no_file(tmp_path, capsys, text
 def test_render_unknown_character_and_unwritable_output(tmp_path, capsys):
     assert run_cli("render", "十", "-o", tmp_path / "a.png", "--source", f"glyphs:{tmp_path}") == 2
     err = capsys.readouterr().err
-    assert "no glyph for '十' (U+5341)" in err and f"--source glyphs:{tmp_path}+mmah:" in err, err
+    assert "no glyph for '十' (U+5341)" in err and f"--source glyphs:{tmp_path}+default" in err, err
     assert run_cli("render", "永", "-o", tmp_path / "missing" / "a.png") == 2
     assert "no such folder" in capsys.readouterr().err
     locked = tmp_path / "locked"
@@ -330,7 +350,7 @@ def test_batch_fills_one_sources_gaps_from_the_next(tmp_path, capsys):
     assert rc == 2 and "2 written, 0 already there, 1 failed" in captured
     assert sorted(p.name for p in out.iterdir()) == ["U+4EBA.png", "U+6C38.png", "failed.txt"]
     assert f"in any of kanjivg:{DATA / 'kanjivg'}, {MMAH}" in (out / "failed.txt").read_text(encoding="utf-8")
-    assert f"1 character(s) are in none of the source's glyphs: add a source after a +, e.g. --source {chain}+mmah:" in captured
+    assert f"1 character(s) are in none of the source's glyphs: add the bundled glyphs and medians (all of GB2312) after it: --source {chain}+default" in captured
 
 
 def test_batches_in_one_process_each_get_a_paper_of_their_own(tmp_path):
@@ -397,6 +417,13 @@ def test_batch_charset_files(tmp_path):
     assert len(level1) == 3755 and level1[0] == "啊"
 
 
+def test_bench_glyphs_scores_the_bundled_outlines_without_a_source(tmp_path):
+    out = tmp_path / "g.json"
+    assert run_cli("bench", "glyphs", "--size", 32, "--count", 1, "--jobs", 1, "--sheet", "", "--json", out) == 0
+    rows = json.loads(out.read_text())["rows"]
+    assert len(rows) == 1 and 0.0 < rows[0]["iou"] <= 1.0
+
+
 def test_progress_lines_when_not_a_terminal():
     import io
 
@@ -407,6 +434,32 @@ def test_progress_lines_when_not_a_terminal():
     bar.close()
     lines = log.getvalue().splitlines()
     assert len(lines) == 3 and lines[-1].startswith("[" + "#" * 30 + "] 3/3") and "1 failed" in lines[-1]
+
+
+def test_a_stopped_batch_ends_its_progress_at_the_count_its_summary_gives(monkeypatch, capsys):
+    def three_then_ctrl_c(fn, tasks, jobs, initializer, initargs, executor="local"):
+        for char, _glyph, _out in tasks[:3]:
+            yield char, 0.1, None
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(batch, "parallel_map", three_then_ctrl_c)
+    tasks = [(chr(0x4E00 + k), None, f"U+{0x4E00 + k:04X}.png") for k in range(10)]
+    res = batch.BatchResult()
+    batch._run_tasks(tasks, 2, (), res, progress=True)
+    last = capsys.readouterr().err.strip().splitlines()[-1]
+    assert res.interrupted and len(res.written) == 3
+    assert "] 3/10 " in last, last
+    assert batch.summary(res).startswith("3 written")
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="needs Linux's /proc, a folder that takes no new files")
+@pytest.mark.parametrize("argv", [["render", "一", "-o", "/proc/o.png", "--size", "16"],
+                                  ["batch", "--chars", "一", "--out", "/proc/out", "--size", "16"],
+                                  ["gallery", "-o", "/proc/g.png", "--px-per-mm", "2"]])
+def test_a_folder_that_takes_no_files_is_named_before_the_work(argv, capsys):
+    assert cli.main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "the folder /proc takes no new files" in err, err
 
 
 def _check_edge_figures(res):

@@ -24,5 +24,5 @@ def test_demo_without_matplotlib_says_how_to_get_it(tmp_path, monkeypatch, capsy
     monkeypatch.setitem(sys.modules, "matplotlib", None)        # import matplotlib fails as if absent
     assert main(["demo", "-o", str(tmp_path / "demo.png")]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "pip install 'brushwork[plot]'" in err
+    assert err.count("\n") == 1 and ".venv/bin/pip install '.[plot]'" in err
     assert not list(tmp_path.iterdir())

@@ -45,7 +45,16 @@ def test_style_table_is_the_codes():
     found = re.search(r"<!-- style-table -->\n(.*?)<!-- /style-table -->", README, flags=re.S)
     assert found, "the README marks its style table"
     assert found.group(1).strip() == style_table().strip(), \
-        "re-make the README's style table with `brushwork params --style`"
+        "re-make the README's style table with `brushwork params --style --markdown`"
+
+
+def test_glyph_limits_are_the_codes():
+    from brushwork.glyphs.jsonfmt import limits_text
+
+    found = re.search(r"<!-- glyph-limits -->(.*?)<!-- /glyph-limits -->", README, flags=re.S)
+    assert found, "the README marks the glyph files' limits"
+    assert " ".join(found.group(1).split()) == limits_text(), \
+        "write brushwork.glyphs.jsonfmt.limits_text() between the README's glyph-limits marks"
 
 
 def test_parameter_table_is_the_codes():
@@ -55,7 +64,7 @@ def test_parameter_table_is_the_codes():
     found = re.search(r"<!-- parameter-table -->\n(.*?)<!-- /parameter-table -->", doc, flags=re.S)
     assert found, "docs/parameters.md marks its table"
     assert found.group(1).strip() == parameter_table("medium").strip(), \
-        "re-make docs/parameters.md's table with `brushwork params`"
+        "re-make docs/parameters.md's table with `brushwork params --markdown`"
 
 
 def _shown_images() -> set[str]:

@@ -67,7 +67,7 @@ def test_default_source_order(monkeypatch, tmp_path):
                                         "medians or in KanjiVG"]
     # without KanjiVG, a miss says how to get it
     monkeypatch.setattr(glyph_sources, "_kanjivg_installed", lambda: False)
-    with pytest.raises(GlyphError, match=r"^default: no glyph .*brushwork\[kanjivg\]"):
+    with pytest.raises(GlyphError, match=r"^default: no glyph .*pip install '\.\[kanjivg\]'"):
         load_source("default", NOWHERE)
 
 
@@ -116,3 +116,28 @@ def test_bad_medians_source(tmp_path):
         load_source(f"medians:{broken}", "一")
     with pytest.raises(GlyphError, match="unknown source"):
         load_source("median", "一")
+
+
+@pytest.mark.parametrize("text", ['{"a": 1}\n', "hello world\n", ""])
+@pytest.mark.parametrize("kind, says", [("medians", "not a medians file"),
+                                        ("mmah", "not a Make Me a Hanzi graphics.txt")])
+def test_a_file_of_another_kind_is_named_so(tmp_path, text, kind, says):
+    path = tmp_path / "other.json"
+    path.write_text(text, encoding="utf-8")
+    for spec in (f"{kind}:{path}", f"{kind}:{path}+default"):
+        with pytest.raises(GlyphError, match=f"^{path}: {says}"):
+            load_source(spec, "永", errors=[])
+
+
+def test_an_unknown_character_is_told_a_source_that_can_help(tmp_path):
+    from brushwork.glyphs.sources import add_source_hint, bundled_dir, outlines_path
+
+    mine = f"glyphs:{bundled_dir()}"                      # 永 is a bundled file, 明 only a median
+    with pytest.raises(GlyphError, match="no glyph for '明'") as err:
+        load_source(mine, "明")
+    hint = add_source_hint(mine)
+    suggested = hint.split("--source ")[1]
+    assert set(load_source(suggested, "明永")) == set("明永")
+    for spec in ("default", "glyphs:x+default"):          # the bundled ones are there already
+        assert "graphics.txt" not in add_source_hint(spec) and "glyphs/README.md" in add_source_hint(spec)
+    assert outlines_path().is_file() and set(load_source(f"mmah:{outlines_path()}")) == set("永和它凡明")

@@ -3,7 +3,7 @@
     brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE]
     brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
     brushwork font --chars TEXT | --charset FILE -o OUT.{otf,ttf,woff2,ufo} [--style S] [--jobs N] [--executor local|ray]
-    brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
+    brushwork bench glyphs [--source mmah:PATH] [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
     brushwork bench stability [--json FILE] [--quick] [--seed N]
     brushwork bench solver [--json FILE] [--preset P] [--frames N] [--repeats N] [--tufts K ...]
@@ -82,7 +82,8 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
 
 # the top-level commands
 COMMANDS: dict[str, Command] = {
-    "render": Command("write characters with the brush to one PNG", "commands.render"),
+    "render": Command("write characters with the brush on one image (PNG, JPEG, TIFF, BMP or WebP)",
+                      "commands.render"),
     "batch": Command("render many characters, one PNG each, in parallel; resumable", "commands.batch"),
     "font": Command("build an OTF, TTF, WOFF2 or UFO font of characters written by the brush; resumable", "font.cli"),
     "bench": Command("run a benchmark", "cli", "_bench_args", handle=""),     # each benchmark sets its own

@@ -13,6 +13,7 @@ import numpy as np
 
 from ._core import BrushModel, MeshOptions
 from .brush import Brush
+from .extras import install_hint
 from .recorded import press_drag_turn_lift
 
 
@@ -52,7 +53,7 @@ def _draw_brush_3d(ax, brush: Brush, title: str) -> None:
     ax.view_init(elev=18, azim=-60)
 
 
-PLOT_HINT = "the demo's figure needs matplotlib: pip install 'brushwork[plot]'"
+PLOT_HINT = f"the demo's figure needs matplotlib: {install_hint('plot')}"
 
 
 def _pyplot():

@@ -26,7 +26,12 @@ def os_error_why(err: OSError) -> str:
 
 
 def os_error_text(err: OSError, path: str | os.PathLike, verb: str = "write") -> str:
-    """An OSError as a plain sentence naming `path` (not the temporary file it happened on)."""
+    """An OSError of making `path` as a plain sentence naming it (not the temporary file it
+    happened on). "No such file" while the folder is there means the folder takes no new files
+    (/proc, /sys, a mount that refuses them)."""
+    folder = os.path.dirname(os.path.abspath(path))
+    if err.errno == errno.ENOENT and os.path.isdir(folder):
+        return f"cannot {verb} {os.fspath(path)}: the folder {folder} takes no new files"
     return f"cannot {verb} {os.fspath(path)}: {os_error_why(err)}"
 
 
@@ -42,6 +47,18 @@ def check_writable(path: str | os.PathLike) -> None:
         raise IsADirectoryError(f"cannot write {path}: it is a folder")
     if not os.access(folder, os.W_OK):
         raise PermissionError(f"cannot write {path}: folder {folder} is not writable")
+    _try_a_file(folder, path)
+
+
+def _try_a_file(folder: str, path: str) -> None:
+    """Make and remove an empty file in `folder`: what the permission bits do not say (a file
+    system that refuses new files, a read-only mount seen by root) fails here, before the work."""
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".tmp-", dir=folder)
+    except OSError as err:
+        raise OSError(err.errno, os_error_text(err, path)) from None
+    os.close(fd)
+    os.unlink(probe)
 
 
 def write_atomic(path: str | os.PathLike, write: Callable[[str], None], suffix: str = "") -> None:

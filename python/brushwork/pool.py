@@ -2,7 +2,7 @@
 (`--executor ray`), each worker set up once by an initialiser, results in the order they finish,
 and a progress bar for the caller.
 
-Ray is optional (`pip install brushwork[ray]`); RAY_ADDRESS names a cluster to join, and without
+Ray is optional (the ray extra); RAY_ADDRESS names a cluster to join, and without
 one a local cluster is started on this machine."""
 from __future__ import annotations
 
@@ -24,6 +24,7 @@ class Progress:
 
     def __init__(self, total: int, stream=None, every_s: float = 5.0):
         self.total, self.done, self.failed = total, 0, 0
+        self.drawn = 0           # the count the last line showed
         self.stream = stream or sys.stderr
         self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
         self.t0 = self.last = time.monotonic()
@@ -45,8 +46,12 @@ class Progress:
                 f"ETA {int(left // 60)}:{int(left % 60):02d}" + (f"  {self.failed} failed" if self.failed else ""))
         self.stream.write(("\r" + line) if self.tty else (line + "\n"))
         self.stream.flush()
+        self.drawn = self.done
 
     def close(self) -> None:
+        """The last line says the count reached (a run stopped between two lines included)."""
+        if self.done != self.drawn:
+            self._draw(time.monotonic())
         if self.tty:
             self.stream.write("\n")
             self.stream.flush()
@@ -60,7 +65,9 @@ def check_executor(name: str) -> str:
         try:
             import ray  # noqa: F401
         except ImportError:
-            raise ValueError("--executor ray needs Ray: pip install 'brushwork[ray]'") from None
+            from .extras import install_hint
+
+            raise ValueError(f"--executor ray needs Ray: {install_hint('ray')}") from None
     return name
 
 

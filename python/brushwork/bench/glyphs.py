@@ -1,12 +1,13 @@
 """Glyph benchmark: how close the driver's ink comes to a source's stroke outlines (`bench glyphs`),
 and a character's ink under solver settings (for `bench precision`).
 
-`bench glyphs --source mmah:PATH` renders every character of a Make Me a Hanzi source with the
-default kai style at 512 px, its em box filling the image as the data's SVG recipe draws it, and
-scores the ink mask (coverage > 0.5) against the union of the stroke outlines by IoU. It prints the
-mean, the 10th percentile and the worst, lists the worst characters, and writes a contact sheet of
-overlays (black: ink inside the outline; red: ink outside it; pink: outline the ink missed) beside
-the same characters from a reference Kai font when one is installed.
+`bench glyphs --source mmah:PATH` (default: the five characters bundled in glyphs/outlines)
+renders every character of a Make Me a Hanzi source with the default kai style at 512 px, its em
+box filling the image as the data's SVG recipe draws it, and scores the ink mask (coverage > 0.5)
+against the union of the stroke outlines by IoU. It prints the mean, the 10th percentile and the
+worst, lists the worst characters, and writes a contact sheet of overlays (black: ink inside the
+outline; red: ink outside it; pink: outline the ink missed) beside the same characters from a
+reference Kai font when one is installed.
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import time
 import numpy as np
 
 from ..glyphs import load_source
+from ..glyphs.sources import outlines_path
 from ..glyphs.score import PARTS, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
 from ..pool import Progress, parallel_map
 from ..writing import Style, Writer, check_size, text_paper, writing_paper
@@ -325,7 +327,10 @@ class InkMaskIoU:
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--source", required=True, help="a source with stroke outlines: mmah:PATH")
+    p.add_argument("--source", default=None,
+                   help="a source with stroke outlines: mmah:PATH, a Make Me a Hanzi graphics.txt (over 9,000 "
+                        "characters: https://github.com/skishore/makemeahanzi); default: the five bundled "
+                        "characters' outlines")
     p.add_argument("--size", type=int, default=512, help="px per character (default 512)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
     p.add_argument("--seed", type=int, default=0, help="seed of the style's variation (default 0)")
@@ -341,5 +346,6 @@ def handle(args: argparse.Namespace) -> int:
 
     if args.sheet:
         check_writable(args.sheet)
-    return run_benchmark("glyphs", args, lambda: run(args.source, args.size, args.count, args.style, args.seed,
+    source = args.source or f"mmah:{outlines_path()}"
+    return run_benchmark("glyphs", args, lambda: run(source, args.size, args.count, args.style, args.seed,
                                                      args.jobs, args.sheet or None), table)

@@ -20,7 +20,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                                                    "beside a reference Kai font when one is installed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
-                                                       "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
+                                                       "RAY_ADDRESS, else a local one; the ray extra)")
     look_arguments(p)
     image_arguments(p)
 

@@ -15,10 +15,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def handle(args: argparse.Namespace) -> int:
     from ..bench.report import progress
+    from ..files import check_image_path
     from ..gallery import render_gallery
 
     if not 1.0 <= args.px_per_mm <= 40.0:
         raise ValueError(f"--px-per-mm {args.px_per_mm}: expected 1..40")
+    for path in filter(None, (args.output, args.views)):      # before the work, not after
+        check_image_path(path)
     path = render_gallery(args.output, args.px_per_mm, progress=progress)
     print(f"wrote {path}")
     if args.views:

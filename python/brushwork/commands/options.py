@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import argparse
 
-SOURCE_HELP = ("where the strokes come from: default (the bundled glyphs, then KanjiVG when installed), "
-               "kanjivg, kanjivg:DIR, mmah:PATH or glyphs:DIR; several joined by + take each character "
-               "from the first that has it (default+mmah:PATH)")
+SOURCE_HELP = ("where the strokes come from: default (the bundled glyph files, then the bundled medians: all "
+               "of GB2312; then KanjiVG when installed), medians or medians:PATH, kanjivg, kanjivg:DIR, "
+               "mmah:PATH or glyphs:DIR; several joined by + take each character from the first that has it "
+               "(glyphs:DIR+default)")
 
 
 def look_arguments(p: argparse.ArgumentParser, size: int = 1024) -> None:
@@ -24,7 +25,7 @@ def image_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples", type=int, default=None,
                    help="multisampling of the strokes: 1, 2, 4 or 8 (default: the style's, 4); "
                         "1 is ~2.5x faster on a software renderer, its edges stepped at the pixel")
-    p.add_argument("--bits", type=int, default=8, help="PNG bits per channel, 8 or 16 (default 8)")
+    p.add_argument("--bits", type=int, default=8, help="bits per channel, 8 or 16 (16: .png and .tif only; default 8)")
     p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
 
 

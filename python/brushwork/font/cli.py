@@ -31,7 +31,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                    help=f"worker processes (default: the CPU count, {os.cpu_count()})")
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
-                                                       "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
+                                                       "RAY_ADDRESS, else a local one; the ray extra)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 

@@ -13,15 +13,24 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import MAX_STROKES, STROKE_TYPES, Glyph, GlyphError, Stroke, check_number, check_points
+from .model import (EM_REACH, MAX_COORD, MAX_POINTS, MAX_STROKE_EM, MAX_STROKES, STROKE_TYPES, Glyph, GlyphError,
+                    Stroke, check_number, check_points)
 from .strokes import infer_stroke_type
-from .svgpath import parse_svg_path
+from .svgpath import MAX_CHARS, MAX_FLAT_POINTS, parse_svg_path
 
 FORMAT, VERSION = "brushwork-glyph", 1
 _TOP_KEYS = {"format", "version", "char", "codepoint", "em_box", "y_down", "source", "strokes"}
 _STROKE_KEYS = {"kind", "points", "d", "pressure", "tilt_deg", "speed", "outline"}
 _PER_POINT = ("pressure", "tilt_deg", "speed")
 MAX_FILE_BYTES = 32 << 20     # a glyph file at its limits (MAX_STROKES x MAX_POINTS) is under 32 MiB
+
+
+def limits_text() -> str:
+    """The limits a glyph file is checked against as it is read, in words (the README quotes them)."""
+    return (f"{MAX_FILE_BYTES >> 20} MiB a file, {MAX_STROKES} strokes, {MAX_POINTS:,} points a stroke, "
+            f"{MAX_CHARS:,} characters of path data ({MAX_FLAT_POINTS:,} points flattened), finite "
+            f"coordinates within ±{MAX_COORD:,.0f}, a centreline within {EM_REACH:g} em of the em box "
+            f"and at most {MAX_STROKE_EM:g} em long")
 
 
 @lru_cache(maxsize=1)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
+from ..extras import install_hint
 from .model import Glyph, GlyphError, Stroke
 from .strokes import infer_stroke_type, normalise_kind
 from .svgpath import parse_svg_path
@@ -24,7 +25,7 @@ def package_dir() -> Path:
     except metadata.PackageNotFoundError:
         folder = None
     if folder is None or not folder.is_dir():
-        raise GlyphError("kanjivg", "the kanjivg package is not installed: pip install 'brushwork[kanjivg]', "
+        raise GlyphError("kanjivg", f"the kanjivg package is not installed ({install_hint('kanjivg')}), "
                                     "or pass kanjivg:DIR with a folder of KanjiVG SVG files")
     return folder
 

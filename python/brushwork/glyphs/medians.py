@@ -50,6 +50,8 @@ class MediansFile:
         for n, line in enumerate(self.data.split(b"\n"), 1):
             self._add(line, n, start)
             start += len(line) + 1
+        if not self.index:
+            raise GlyphError(self.path, 'not a medians file: no line holds {"character": C, "medians": [...]}')
 
     def _add(self, line: bytes, n: int, start: int) -> None:
         if not line.strip():

@@ -60,6 +60,9 @@ def read_graphics(path: Path, wanted: set[str] | None) -> Iterator[tuple[str | N
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as e:
         raise GlyphError(path, f"cannot read: {e}") from None
+    if '"character"' not in text:
+        raise GlyphError(path, 'not a Make Me a Hanzi graphics.txt: no line holds {"character": C, "strokes": '
+                               '[...], "medians": [...]}')
     for n, line in enumerate(text.splitlines(), 1):
         if not line.strip() or (wanted is not None and not any(c in line for c in wanted)):
             continue

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from ..extras import install_hint
 from . import kanjivg, medians, mmah
 from .jsonfmt import load_glyph
 from .model import Glyph, GlyphError
@@ -37,6 +38,15 @@ def bundled_dir() -> Path:
     raise GlyphError("default", "the bundled glyph files are missing from this installation")
 
 
+def outlines_path() -> Path:
+    """Five characters with their stroke outlines (Make Me a Hanzi's graphics.txt format) that ship
+    with brushwork: the default source of `brushwork bench glyphs`."""
+    path = bundled_dir() / "outlines" / "graphics.txt"
+    if not path.is_file():
+        raise GlyphError("outlines", "the bundled outlines are missing from this installation")
+    return path
+
+
 def _kanjivg_installed() -> bool:
     try:
         kanjivg.package_dir()
@@ -60,15 +70,18 @@ def _load_default(chars, variant, errors) -> dict[str, Glyph]:
     if "kanjivg" in parts:
         detail = "among the bundled glyphs and medians or in KanjiVG"
     else:
-        detail = ("among the bundled glyphs and medians; pip install 'brushwork[kanjivg]' for KanjiVG's, "
-                  "or pass --source")
+        detail = f"among the bundled glyphs and medians (KanjiVG's: {install_hint('kanjivg')})"
     bad += [_unknown(DEFAULT, c, detail) for c in todo or []]
     return _finish(out, wanted, bad, errors)
 
 
 def add_source_hint(spec: str = "default") -> str:
-    """What to tell a user whose characters `spec` does not have: chain another source after it."""
-    return f"add a source after a +, e.g. --source {spec}+mmah:graphics.txt (Make Me a Hanzi has over 9,000)"
+    """What to tell a user whose characters `spec` does not have: the bundled ones after it, or,
+    when they are in the chain already, a glyph file of one's own (glyphs/README.md)."""
+    if DEFAULT in split_sources(spec):
+        return (f"write its strokes as a glyph file (glyphs/README.md) and add its folder: "
+                f"--source glyphs:DIR+{spec}")
+    return f"add the bundled glyphs and medians (all of GB2312) after it: --source {spec}+default"
 
 
 def glyph_file_name(char: str) -> str:

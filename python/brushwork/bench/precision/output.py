@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...extras import install_hint
 from .config import INK_NOTE, OURS, TUFTS_NOTE
 
 
@@ -120,7 +121,7 @@ def _plot_metric(ax, curves: dict, default_row: dict, metric: tuple) -> None:
     ax.grid(True, which="both", alpha=0.3)
 
 
-PLOT_HINT = "plot skipped: it needs matplotlib (pip install 'brushwork[plot]')"
+PLOT_HINT = f"plot skipped: it needs matplotlib ({install_hint('plot')})"
 
 
 def plot(result: dict, path: str) -> bool:

@@ -8,6 +8,7 @@ from typing import Callable, Optional, Sequence
 import numpy as np
 
 from ...brush import Brush
+from ...extras import install_hint
 
 
 class FrameProblem:
@@ -114,7 +115,7 @@ def available_peers(quick: bool) -> tuple[list[tuple[Peer, float]], list[str]]:
             importlib.import_module(p.module)
         except ImportError as exc:
             extra = "ipopt" if p.module == "cyipopt" else "bench"
-            notes.append(f"{p.name}: not installed ({exc}); `pip install .[{extra}]`")
+            notes.append(f"{p.name}: not installed ({exc}); {install_hint(extra)}")
             continue
         tols = [p.own_default or 1e-6] if quick else list(p.tols)
         runs += [(p, t) for t in tols]
