@@ -211,6 +211,100 @@ def _still(rec: _Recorder, scale: float, rng) -> None:
     rec.extra.update({"iterations_after_200": it_after, "drift": drift, "drift_from_frame": k0})
 
 
+class _Walk:
+    """A random smooth pose walk of a brush of tuft length L: the position moves by a smoothed
+    random velocity of at most vmax (0.02..0.3 L) a frame, its height reflected into [-0.2 L,
+    1.3 L]; tilt, azimuth and twist take smoothed random steps, tilt reflected into [0, 85] deg
+    and twist into [-90, 90] deg."""
+
+    def __init__(self, rng, L: float):
+        self.rng, self.L = rng, L
+        self.vmax = float(rng.uniform(0.02, 0.3)) * L
+        self.pos = np.array([0.0, 0.0, rng.uniform(-0.2, 1.3) * L])
+        self.vel = np.zeros(3)
+        self.tilt, self.azimuth, self.twist = rng.uniform(0.0, 85.0), rng.uniform(0.0, 360.0), rng.uniform(-30.0, 30.0)
+        self.d_tilt = self.d_az = self.d_tw = 0.0
+
+    def _move(self) -> None:
+        # position: smoothed random velocity, at most vmax per frame
+        self.vel = 0.7 * self.vel + 0.5 * self.vmax * self.rng.uniform(-1.0, 1.0, 3)
+        speed = float(np.linalg.norm(self.vel))
+        if speed > self.vmax:
+            self.vel *= self.vmax / speed
+        pos, vel = self.pos + self.vel, self.vel
+        # z reflected into [-0.2 L, 1.3 L]
+        lo, hi = -0.2 * self.L, 1.3 * self.L
+        if pos[2] < lo:
+            pos[2], vel[2] = 2 * lo - pos[2], -vel[2]
+        if pos[2] > hi:
+            pos[2], vel[2] = 2 * hi - pos[2], -vel[2]
+        pos[2] = min(max(pos[2], lo), hi)
+        self.pos = pos
+
+    def _turn(self) -> None:
+        # angles: smoothed random walks; tilt reflected into [0, 85], twist into [-90, 90]
+        rng = self.rng
+        self.d_tilt = float(np.clip(0.7 * self.d_tilt + rng.uniform(-2.5, 2.5), -8.0, 8.0))
+        self.d_az = float(np.clip(0.7 * self.d_az + rng.uniform(-4.0, 4.0), -12.0, 12.0))
+        self.d_tw = float(np.clip(0.7 * self.d_tw + rng.uniform(-2.0, 2.0), -6.0, 6.0))
+        self.tilt += self.d_tilt
+        if self.tilt < 0.0:
+            self.tilt, self.d_tilt = -self.tilt, -self.d_tilt
+        if self.tilt > 85.0:
+            self.tilt, self.d_tilt = 170.0 - self.tilt, -self.d_tilt
+        self.tilt = min(max(self.tilt, 0.0), 85.0)
+        self.azimuth = (self.azimuth + self.d_az) % 360.0
+        self.twist += self.d_tw
+        if abs(self.twist) > 90.0:
+            self.twist, self.d_tw = math.copysign(180.0, self.twist) - self.twist, -self.d_tw
+
+    def pose(self) -> Pose:
+        """The walk's next pose."""
+        self._move()
+        self._turn()
+        return Pose((float(self.pos[0]), float(self.pos[1]), float(self.pos[2])), float(self.tilt),
+                    float(self.azimuth), float(self.twist))
+
+
+_EPISODE_FIELDS = ("frames", "nonfinite", "worst_penetration_frac", "worst_penetration_mm", "worst_penetration_at",
+                   "worst_penetration_frac_after_first", "worst_iterations", "mean_iterations", "converged_frac",
+                   "root_clamped_frames", "raised")
+
+
+def _episode(rec: _Recorder, e: int, rng, presets: list, per: int, reset_every: int) -> dict:
+    """One episode of `_random`: a brush of random preset, exponent and stiffness ratio walked for
+    `per` frames (reset every `reset_every` in episode 0 and about a quarter of the others)."""
+    preset = str(rng.choice(presets))
+    exponent = float(rng.choice([2.0, 3.0]))
+    stiffness = float(10.0 ** rng.uniform(0.0, 4.0))
+    resets_here = e == 0 or rng.random() < 0.25
+    m = _model(preset)
+    m.exponent, m.stiffness_ratio = exponent, stiffness
+    L = m.tuft_length
+    walk = _Walk(rng, L)
+    sub = _Recorder(f"random/{e}")
+    info = {"episode": e, "preset": preset, "exponent": exponent, "stiffness_ratio": stiffness,
+            "max_step_mm": walk.vmax, "resets": 0}
+    try:
+        b = Brush(m)
+        for k in range(per):
+            first = k == 0
+            if resets_here and k > 0 and k % reset_every == 0:
+                b.reset()
+                info["resets"] += 1
+                first = True
+            s = b.step(walk.pose())
+            rec.record(b, s, L, first)
+            sub.record(b, s, L, first)
+    except Exception as exc:  # noqa: BLE001 - recorded, the next episode goes on
+        msg = f"episode {e} ({preset}, m={exponent:g}, k={stiffness:.3g}): {type(exc).__name__}: {exc}"
+        rec.raised.append(msg)
+        sub.raised.append(msg)
+    r = sub.row()
+    info.update({k: r[k] for k in _EPISODE_FIELDS})
+    return info
+
+
 def _random(rec: _Recorder, scale: float, rng) -> None:
     """20 episodes of random smooth pose walks (10,000 frames at scale 1), random preset, exponent
     and stiffness ratio each; episode 0 (and about a quarter of the others) resets the brush every
@@ -219,80 +313,9 @@ def _random(rec: _Recorder, scale: float, rng) -> None:
     per = max(int(math.ceil(200 / n_ep)), int(round(500 * scale)))
     reset_every = max(5, int(round(100 * scale)))
     presets = list(BrushModel.presets())
-    episodes = []
-    n_resets = 0
-    for e in range(n_ep):
-        # the episode's brush
-        preset = str(rng.choice(presets))
-        exponent = float(rng.choice([2.0, 3.0]))
-        stiffness = float(10.0 ** rng.uniform(0.0, 4.0))
-        resets_here = e == 0 or rng.random() < 0.25
-        m = _model(preset)
-        m.exponent = exponent
-        m.stiffness_ratio = stiffness
-        L = m.tuft_length
-        # the episode's walk: speed limit (mm/frame), start pose
-        vmax = float(rng.uniform(0.02, 0.3)) * L
-        pos = np.array([0.0, 0.0, rng.uniform(-0.2, 1.3) * L])
-        vel = np.zeros(3)
-        tilt, azimuth, twist = rng.uniform(0.0, 85.0), rng.uniform(0.0, 360.0), rng.uniform(-30.0, 30.0)
-        d_tilt = d_az = d_tw = 0.0
-        sub = _Recorder(f"random/{e}")
-        info = {"episode": e, "preset": preset, "exponent": exponent, "stiffness_ratio": stiffness,
-                "max_step_mm": vmax, "resets": 0}
-        try:
-            b = Brush(m)
-            for k in range(per):
-                first = k == 0
-                if resets_here and k > 0 and k % reset_every == 0:
-                    b.reset()
-                    info["resets"] += 1
-                    first = True
-                # position: smoothed random velocity, at most 0.3 L (vmax) per frame
-                vel = 0.7 * vel + 0.5 * vmax * rng.uniform(-1.0, 1.0, 3)
-                speed = float(np.linalg.norm(vel))
-                if speed > vmax:
-                    vel *= vmax / speed
-                pos = pos + vel
-                # z reflected into [-0.2 L, 1.3 L]
-                lo, hi = -0.2 * L, 1.3 * L
-                if pos[2] < lo:
-                    pos[2], vel[2] = 2 * lo - pos[2], -vel[2]
-                if pos[2] > hi:
-                    pos[2], vel[2] = 2 * hi - pos[2], -vel[2]
-                pos[2] = min(max(pos[2], lo), hi)
-                # angles: smoothed random walks; tilt reflected into [0, 85], twist into [-90, 90]
-                d_tilt = float(np.clip(0.7 * d_tilt + rng.uniform(-2.5, 2.5), -8.0, 8.0))
-                d_az = float(np.clip(0.7 * d_az + rng.uniform(-4.0, 4.0), -12.0, 12.0))
-                d_tw = float(np.clip(0.7 * d_tw + rng.uniform(-2.0, 2.0), -6.0, 6.0))
-                tilt += d_tilt
-                if tilt < 0.0:
-                    tilt, d_tilt = -tilt, -d_tilt
-                if tilt > 85.0:
-                    tilt, d_tilt = 170.0 - tilt, -d_tilt
-                tilt = min(max(tilt, 0.0), 85.0)
-                azimuth = (azimuth + d_az) % 360.0
-                twist += d_tw
-                if abs(twist) > 90.0:
-                    twist, d_tw = math.copysign(180.0, twist) - twist, -d_tw
-                pose = Pose((float(pos[0]), float(pos[1]), float(pos[2])), float(tilt),
-                            float(azimuth), float(twist))
-                s = b.step(pose)
-                rec.record(b, s, L, first)
-                sub.record(b, s, L, first)
-        except Exception as exc:  # noqa: BLE001 - recorded, the next episode goes on
-            msg = f"episode {e} ({preset}, m={exponent:g}, k={stiffness:.3g}): {type(exc).__name__}: {exc}"
-            rec.raised.append(msg)
-            sub.raised.append(msg)
-        n_resets += info["resets"]
-        r = sub.row()
-        info.update({k: r[k] for k in ("frames", "nonfinite", "worst_penetration_frac",
-                                       "worst_penetration_mm", "worst_penetration_at",
-                                       "worst_penetration_frac_after_first",
-                                       "worst_iterations", "mean_iterations",
-                                       "converged_frac", "root_clamped_frames", "raised")})
-        episodes.append(info)
-    rec.extra.update({"episodes": episodes, "resets": n_resets, "frames_per_episode": per})
+    episodes = [_episode(rec, e, rng, presets, per, reset_every) for e in range(n_ep)]
+    rec.extra.update({"episodes": episodes, "resets": sum(ep["resets"] for ep in episodes),
+                      "frames_per_episode": per})
 
 
 def _tufts_case(tufts: int) -> Callable:
