@@ -88,27 +88,67 @@ def _length(p: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
-def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float) -> list:
-    """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
-    each curve's points on average within tol of it at their parameters, none farther than
-    MAX_RATIO * tol; t0 the unit tangent at the start, t1 at the end pointing back into the curve."""
+def fit_one(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, steps: int = NEWTON_STEPS) -> tuple:
+    """(the cubic through p (n, 2) with end tangents t0, t1 (as fit_open takes them), its error in
+    tolerances as _worst measures it, the index of its farthest point): Schneider's least squares
+    with up to `steps` reparametrisations while they may still bring the error under 1."""
     if len(p) <= 2:
         d = float(np.linalg.norm(p[-1] - p[0])) / 3.0
-        return [np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]])]
+        return np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]]), 0.0, 0
     u = _chord_params(p)
     c = _least_squares(p, u, t0, t1)
     err, i = _worst(c, p, u, tol)
-    if err <= 1.0:
-        return [c]
-    for _ in range(NEWTON_STEPS if err <= 4.0 else 0):
+    for _ in range(steps if err <= 4.0 else 0):
+        if err <= 1.0:
+            break
         u = _newton(c, p, u)
         c = _least_squares(p, u, t0, t1)
         err, i = _worst(c, p, u, tol)
-        if err <= 1.0:
-            return [c]
+    return c, err, i
+
+
+def _split_tangent(p: np.ndarray, i: int, reach: int) -> np.ndarray:
+    """The unit tangent at p[i] pointing back along p, from the chord between the points `reach`
+    either side (fewer near the ends)."""
+    k = max(1, min(reach, i, len(p) - 1 - i))
+    return _unit(p[i - k] - p[i + k])
+
+
+def _fit_split(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, reach: int) -> list:
+    """[(first index, last index, cubic)] through p: one cubic when it fits, else split at the
+    farthest point and each side fitted in turn."""
+    c, err, i = fit_one(p, t0, t1, tol)
+    if err <= 1.0:
+        return [(0, len(p) - 1, c)]
     i = min(max(i, 1), len(p) - 2)
-    mid = _unit(p[i - 1] - p[i + 1])          # the tangent at the split, pointing back along p
-    return fit_open(p[:i + 1], t0, mid, tol) + fit_open(p[i:], -mid, t1, tol)
+    mid = _split_tangent(p, i, reach)
+    right = _fit_split(p[i:], -mid, t1, tol, reach)
+    return _fit_split(p[:i + 1], t0, mid, tol, reach) + [(a + i, b + i, c) for a, b, c in right]
+
+
+def _merge(p: np.ndarray, pieces: list, tol: float) -> list:
+    """The pieces [(first, last, cubic)] with neighbours joined wherever one cubic from the first's
+    start tangent to the second's end tangent fits both their points: the greedy splits leave
+    joints a single curve would have spanned."""
+    k = 0
+    while k < len(pieces) - 1:
+        (a, _, c0), (_, b, c1) = pieces[k], pieces[k + 1]
+        t0, t1 = _unit(c0[1] - c0[0]), _unit(c1[2] - c1[3])
+        c, err, _ = fit_one(p[a:b + 1], t0, t1, tol)
+        if err <= 1.0 and np.linalg.norm(c0[1] - c0[0]) > 0 and np.linalg.norm(c1[2] - c1[3]) > 0:
+            pieces[k:k + 2] = [(a, b, c)]
+            k = max(k - 1, 0)
+        else:
+            k += 1
+    return pieces
+
+
+def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, reach: int = 1) -> list:
+    """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
+    each curve's points on average within tol of it at their parameters, none farther than
+    MAX_RATIO * tol; t0 the unit tangent at the start, t1 at the end pointing back into the curve;
+    the tangents at the joints from the chord over `reach` points either side."""
+    return [c for _, _, c in _merge(p, _fit_split(p, t0, t1, tol, reach), tol)]
 
 
 def _turns(p: np.ndarray, reach: int) -> np.ndarray:
@@ -146,12 +186,12 @@ def fit_closed(p: np.ndarray, tol: float, spacing: float) -> list:
         # no corner: start anywhere and make the start as smooth as the rest
         t = _unit(p[min(reach, len(p) - 1)] - p[-min(reach, len(p) - 1)])
         ring = np.concatenate([p, p[:1]])
-        return fit_open(ring, t, -t, tol)
+        return fit_open(ring, t, -t, tol, reach)
     ring = np.roll(p, -cut[0], axis=0)
     ends = list(cut - cut[0]) + [len(p)]
     ring = np.concatenate([ring, ring[:1]])
     out = []
     for a, b in zip(ends[:-1], ends[1:]):
         piece = ring[a:b + 1]
-        out += fit_open(piece, _end_tangent(piece, reach), _end_tangent(piece[::-1], reach), tol)
+        out += fit_open(piece, _end_tangent(piece, reach), _end_tangent(piece[::-1], reach), tol, reach)
     return out

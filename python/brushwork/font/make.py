@@ -24,7 +24,7 @@ from .build import FontInfo, check_font_path, write_font
 from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
 
 CACHE_DIR = ".brushwork-font-cache"
-OUTLINE_FORMAT = 2          # the cache files' layout and the tracer's: a change makes new keys
+OUTLINE_FORMAT = 3          # the cache files' layout and the tracer's: a change makes new keys
 
 
 @dataclass
