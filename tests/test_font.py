@@ -71,7 +71,13 @@ def _check_tables(font, ext):
     os2, upm = font["OS/2"], font["head"].unitsPerEm
     assert upm in (1000, 1024)
     assert os2.sTypoAscender - os2.sTypoDescender == upm
-    assert os2.sTypoAscender == round(0.88 * upm) and os2.fsSelection & 0x80
+    assert os2.sTypoAscender == round(0.88 * upm) and os2.sTypoLineGap == 0
+    # Google Fonts' CJK vertical metrics: hhea and win equal, a line of 1.1..1.5 em, bit 7 clear
+    hhea = font["hhea"]
+    assert hhea.ascent == os2.usWinAscent and -hhea.descent == os2.usWinDescent and hhea.lineGap == 0
+    assert 1.1 * upm < hhea.ascent - hhea.descent <= 1.5 * upm and not os2.fsSelection & 0x80
+    assert font["post"].formatType == 3.0
+    assert font["meta"].data == {"dlng": "Hans", "slng": "Hans"}
     assert os2.ulCodePageRange1 & (1 << 18)                 # Chinese Simplified
     assert 59 in os2.getUnicodeRanges()                      # CJK Unified Ideographs
     names = {n.nameID: n.toUnicode() for n in font["name"].names}
@@ -80,6 +86,74 @@ def _check_tables(font, ext):
         name = font.getBestCmap()[ord(c)]
         assert font["hmtx"][name][0] == upm and font["vmtx"][name][0] == upm
     assert font["hmtx"]["space"][0] == upm // 4
+
+
+def _glyph_boxes(font) -> dict:
+    from fontTools.pens.boundsPen import BoundsPen
+
+    glyphs, boxes = font.getGlyphSet(), {}
+    for c in CHARS:
+        pen = BoundsPen(glyphs)
+        glyphs[font.getBestCmap()[ord(c)]].draw(pen)
+        boxes[c] = pen.bounds
+    return boxes
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf"])
+def test_base_table_has_the_em_box_and_the_ink_face(fonts, ext):
+    """BASE, across and down: the ideographic em box (ideo, idtp) is the typo descender and
+    ascender across and the em's sides down; the character face (icfb, icft) is the median of
+    the glyphs' ink boxes' edges, inside the em box; Han sits on ideo, Latin on romn."""
+    from fontTools.ttLib import TTFont
+
+    with TTFont(fonts[ext][0]) as font:
+        base, boxes = font["BASE"].table, np.array(list(_glyph_boxes(font).values()))
+        for axis, lo, hi, y in ((base.HorizAxis, -120, 880, 1), (base.VertAxis, 0, 1000, 0)):
+            tags = axis.BaseTagList.BaselineTag
+            assert tags == ["icfb", "icft", "ideo", "idtp", "romn"]
+            scripts = {r.BaseScriptTag: r.BaseScript.BaseValues for r in axis.BaseScriptList.BaseScriptRecord}
+            assert tags[scripts["hani"].DefaultIndex] == "ideo" and tags[scripts["latn"].DefaultIndex] == "romn"
+            value = dict(zip(tags, (c.Coordinate for c in scripts["hani"].BaseCoord)))
+            assert (value["ideo"], value["idtp"]) == (lo, hi)
+            assert value["icfb"] == pytest.approx(np.median(boxes[:, y]), abs=1)
+            assert value["icft"] == pytest.approx(np.median(boxes[:, y + 2]), abs=1)
+            assert lo < value["icfb"] < value["icft"] < hi
+
+
+def test_name_table_carries_the_licence_and_its_url(tmp_path):
+    from fontTools.ttLib import TTFont
+
+    info = FontInfo(licence="SIL Open Font License, Version 1.1", licence_url="https://openfontlicense.org",
+                    copyright="Copyright 2026 The Brushwork Authors", vendor_url="https://example.org")
+    build_font("十", tmp_path / "n.otf", info=info)
+    with TTFont(tmp_path / "n.otf") as font:
+        names = {n.nameID: n.toUnicode() for n in font["name"].names}
+    assert (names[0], names[11], names[13], names[14]) == (info.copyright, info.vendor_url, info.licence,
+                                                           info.licence_url)
+    with pytest.raises(ValueError, match="--licence-url"):
+        FontInfo(licence_url="openfontlicense.org").check()
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf"])
+def test_no_segment_is_degenerate(fonts, ext):
+    """No line or curve of a glyph ends where it starts (a point repeated), and no contour closes
+    with a line back onto its first point."""
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+    from fontTools.ttLib import TTFont
+
+    with TTFont(fonts[ext][0]) as font:
+        glyphs = font.getGlyphSet()
+        for c in CHARS:
+            pen = DecomposingRecordingPen(glyphs)
+            glyphs[font.getBestCmap()[ord(c)]].draw(pen)
+            here = start = None
+            for op, args in pen.value:
+                if op == "moveTo":
+                    here = start = args[0]
+                elif args:
+                    assert np.abs(np.subtract(args, here)).max() > 0, (c, op, args)
+                    assert not (op == "lineTo" and tuple(args[0]) == tuple(start)), (c, args)
+                    here = args[-1]
 
 
 def test_ufo_reads_back(fonts):
@@ -171,6 +245,9 @@ def test_cli_lists_missing_characters_and_builds_the_rest(tmp_path):
     (["--chars", "十", "-o", "{d}/f.otf", "--executor", "mpi"], "--executor"),
     (["--chars", "十", "-o", "{d}/f.otf", "--tolerance", "0"], "--tolerance"),
     (["--charset", "{d}/none.txt", "-o", "{d}/f.otf"], "none.txt"),
+    (["--chars", "十"], "--web"),
+    (["--chars", "十", "--web", "{d}/f.web", "--slice-chars", "0"], "--slice-chars"),
+    (["--chars", "十", "-o", "{d}/f.otf", "--licence-url", "openfontlicense.org"], "--licence-url"),
 ])
 def test_cli_bad_input_is_one_line_and_no_file(tmp_path, args, why):
     res = _cli(*[a.format(d=tmp_path) for a in args])
@@ -370,3 +447,78 @@ def test_the_glyph_cache_is_keyed_by_the_brush(monkeypatch):
 
     monkeypatch.setattr(brushwork.BrushModel, "preset", staticmethod(stiffer))
     assert make._cache_key(kai, 0, 512, 0.5) != key
+
+
+@pytest.fixture(scope="module")
+def web(tmp_path_factory):
+    """CHARS for the web in slices of one character each after a slice of the blanks."""
+    folder = tmp_path_factory.mktemp("web")
+    res = build_font(CHARS, None, web=folder, slice_chars=1)
+    assert res.web is not None and not res.failed
+    return res.web
+
+
+def test_web_slices_split_the_font_by_unicode_range(web):
+    """One WOFF2 a slice, in the charset's order, each mapping its characters alone (and .notdef),
+    accepted by the Sanitizer, with the BASE and vertical tables kept; the CSS holds one
+    @font-face rule a slice whose unicode-range is that slice's; the page links the CSS."""
+    from fontTools.ttLib import TTFont
+
+    from brushwork.font.web import unicode_range
+
+    pytest.importorskip("ots")
+    from brushwork.font.check import sanitize
+
+    assert [chars for _, chars in web.slices] == [" \u00a0\u3000", *CHARS]
+    from pathlib import Path
+
+    css = Path(web.css).read_text(encoding="utf-8")
+    assert css.count("@font-face") == len(web.slices)
+    for path, chars in web.slices:
+        with TTFont(path) as font:
+            assert font.flavor == "woff2" and set(font.getBestCmap()) == {ord(c) for c in chars}
+            assert {"BASE", "vhea", "vmtx", "VORG", "meta"} <= set(font.keys())
+        assert f'url("{os.path.basename(path)}") format("woff2");\n  font-display: swap;\n  unicode-range: ' \
+               f'{unicode_range(chars)};' in css
+        assert sanitize(path) is None
+    assert os.path.basename(web.css) in Path(web.page).read_text(encoding="utf-8")
+    assert unicode_range("一丁七万丈三") == "U+4E00-4E01, U+4E03, U+4E07-4E09"
+
+
+def test_chromium_fetches_only_the_slices_a_page_needs(web, tmp_path):
+    """A page of two of the characters, served over HTTP: Chromium fetches the two slices that
+    hold them and no other but the blanks' (the line's metrics come from the face that maps the
+    space), and sets them as FreeType draws them from the slices."""
+    pytest.importorskip("selenium")
+    import functools
+    import http.server
+    import threading
+
+    from brushwork.font.browser import MARGIN_PX, chromium_shot, find_chromium, freetype_line
+    from brushwork.font.check import iou
+    from brushwork.font.trace import ink_coverage, ink_mask
+    from brushwork.font.web import page_html
+
+    if not all(find_chromium()):
+        pytest.skip("no chromium and chromedriver on PATH (Debian: apt-get install chromium chromium-driver)")
+    text, px = CHARS[1] + CHARS[3], 128
+    with open(os.path.join(web.folder, "two.html"), "w", encoding="utf-8") as f:
+        f.write(page_html("Brushwork", os.path.basename(web.css), text, px))
+    handler = functools.partial(http.server.SimpleHTTPRequestHandler, directory=web.folder)
+    handler.log_message = lambda *a: None
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    try:
+        url = f"http://127.0.0.1:{server.server_address[1]}/two.html"
+        shot, fetched = chromium_shot(url, len(text) * px + 2 * MARGIN_PX, px + 2 * MARGIN_PX,
+                                      "return performance.getEntriesByType('resource').map(e => e.name)")
+    finally:
+        server.shutdown()
+        server.server_close()
+    needed = {os.path.basename(p) for p, chars in web.slices if set(chars) & set(text)}
+    assert len(needed) == 2
+    got = {n.rsplit("/", 1)[-1] for n in fetched if n.endswith(".woff2")}
+    assert needed <= got <= needed | {os.path.basename(web.slices[0][0])}
+    line = ink_coverage(shot)[MARGIN_PX:MARGIN_PX + px, MARGIN_PX:MARGIN_PX + len(text) * px]
+    drawn = np.concatenate([freetype_line(p, c, px) for c in text for p, chars in web.slices if c in chars], axis=1)
+    assert iou(ink_mask(line), drawn >= 0.5) >= 0.97

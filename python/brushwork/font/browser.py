@@ -38,10 +38,10 @@ def _page(font_path: str, text: str, px: int) -> str:
             f"</style></head><body><div>{text}</div></body></html>")
 
 
-def chromium_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
-    """(px + 2 MARGIN_PX, len(text) px + 2 MARGIN_PX, 3) uint8 RGB: Chromium's screenshot of text
-    set in the font at font_path (a WOFF2), px pixels to the em, the line's box MARGIN_PX from the
-    top-left corner. RuntimeError when Chromium or its driver is missing."""
+def chromium_shot(url: str, w: int, h: int, script: str = "return null") -> tuple:
+    """(the top-left (h, w, 3) uint8 RGB of Chromium's screenshot of the page at url once its
+    fonts are ready, what `script` returns run in the page then). RuntimeError when Chromium or
+    its driver is missing."""
     import cv2
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
@@ -49,7 +49,6 @@ def chromium_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.
     browser, driver_path = find_chromium()
     if not browser or not driver_path:
         raise RuntimeError("headless Chromium needs chromium and chromedriver on PATH")
-    w, h = len(text) * px + 2 * MARGIN_PX, px + 2 * MARGIN_PX
     opts = webdriver.ChromeOptions()
     opts.binary_location = browser
     for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
@@ -58,24 +57,45 @@ def chromium_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.
         opts.add_argument(arg)
     drv = webdriver.Chrome(service=Service(driver_path), options=opts)
     try:
-        drv.get("data:text/html;charset=utf-8;base64," + base64.b64encode(
-            _page(os.fspath(font_path), text, px).encode()).decode())
-        drv.execute_script("return document.fonts.ready")
+        drv.get(url)
+        drv.execute_async_script("const done = arguments[arguments.length - 1]; document.fonts.ready.then(done)")
         png = drv.get_screenshot_as_png()
+        found = drv.execute_script(script)
     finally:
         drv.quit()
     bgr = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
-    return np.ascontiguousarray(bgr[:h, :w, ::-1])
+    return np.ascontiguousarray(bgr[:h, :w, ::-1]), found
+
+
+def chromium_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
+    """(px + 2 MARGIN_PX, len(text) px + 2 MARGIN_PX, 3) uint8 RGB: Chromium's screenshot of text
+    set in the font at font_path (a WOFF2), px pixels to the em, the line's box MARGIN_PX from the
+    top-left corner. RuntimeError when Chromium or its driver is missing."""
+    url = "data:text/html;charset=utf-8;base64," + base64.b64encode(
+        _page(os.fspath(font_path), text, px).encode()).decode()
+    return chromium_shot(url, len(text) * px + 2 * MARGIN_PX, px + 2 * MARGIN_PX)[0]
+
+
+def css_baseline(font_path: str | os.PathLike, px: int) -> float:
+    """px below the top of a line box px high (line-height equal to the font size) where a browser
+    puts the baseline of the font at font_path: its hhea ascent and descent each rounded to whole
+    pixels, the half-leading (what the line box has over their sum, halved) floored."""
+    from fontTools.ttLib import TTFont
+
+    with TTFont(os.fspath(font_path), lazy=True) as font:
+        scale = px / font["head"].unitsPerEm
+        ascent, descent = round(font["hhea"].ascent * scale), round(-font["hhea"].descent * scale)
+    return float(ascent + (px - ascent - descent) // 2)
 
 
 def freetype_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
     """(px, len(text) px) float coverage: text rasterised by FreeType, each character's em square
-    a px x px cell, side by side (the layout of one em advance per glyph), the baseline on the
-    whole pixel nearest the ascender's depth, as browsers place it."""
+    a px x px cell, side by side (the layout of one em advance per glyph), the baseline where a
+    browser puts it (css_baseline)."""
     from .check import freetype_coverage
 
     em = Em(size=px)
-    baseline = float(round(em.ascender * px / em.upm))
+    baseline = css_baseline(font_path, px)
     return np.concatenate([freetype_coverage(font_path, c, em, baseline) for c in text], axis=1)
 
 

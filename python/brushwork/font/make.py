@@ -20,8 +20,9 @@ import numpy as np
 from ..pool import Progress, check_executor, parallel_map
 from ..files import write_atomic
 from ..writing import Style, check_size, text_paper
-from .build import FontInfo, check_font_path, write_font
+from .build import SPACES, FontInfo, check_font_path, make_font, write_font
 from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
+from .web import SLICE_CHARS, check_slice_chars, write_web
 
 CACHE_DIR = ".brushwork-font-cache"
 OUTLINE_FORMAT = 3          # the cache files' layout and the tracer's: a change makes new keys
@@ -30,6 +31,7 @@ OUTLINE_FORMAT = 3          # the cache files' layout and the tracer's: a change
 @dataclass
 class FontResult:
     path: str = ""
+    web: object = None                              # the WebFont written at --web, or None
     made: list = field(default_factory=list)        # characters whose outline this run made
     cached: list = field(default_factory=list)      # characters whose outline came from the cache
     failed: list = field(default_factory=list)      # (char, one-line reason): not in the font
@@ -141,24 +143,57 @@ def _run(tasks: list, jobs: int, init: tuple, executor: str, result: FontResult,
             bar.close()
 
 
-def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", style: str = "kai", seed: int = 0,
+def _write(outlines: dict, order: list, path, web, slice_chars: int, info: FontInfo, result: FontResult) -> None:
+    """The font at path and its web slices in the folder web (either may be None)."""
+    t1 = time.perf_counter()
+    if path is not None:
+        write_font(outlines, path, info)
+    if web is not None:
+        text = "".join(c for c in order if c in outlines)
+        result.web = write_web(make_font(outlines, info), text, web, info.family, info.ps_name, slice_chars,
+                               first="".join(SPACES))
+    result.write_seconds = time.perf_counter() - t1
+    result.points = [point_count(outlines[c]) for c in outlines]
+
+
+def _cache_root(path, web) -> Path:
+    """The folder the cache lives in: the font's, else the web folder (made when missing)."""
+    if path is not None:
+        return Path(os.path.abspath(os.fspath(path))).parent
+    Path(web).mkdir(parents=True, exist_ok=True)
+    return Path(os.path.abspath(os.fspath(web)))
+
+
+def _check_args(path, web, slice_chars: int, size: int, tolerance: float, executor: str, jobs: int) -> tuple:
+    """(size, tolerance, executor) checked, and the outputs and job count; ValueError in one line."""
+    if path is None and web is None:
+        raise ValueError("name a font to write (-o) or a folder for the web font (--web)")
+    if path is not None:
+        check_font_path(path)
+    check_slice_chars(slice_chars)
+    if int(jobs) < 1:
+        raise ValueError(f"--jobs {jobs}: expected >= 1")
+    return check_size(size), check_tolerance(tolerance), check_executor(executor)
+
+
+def build_font(glyphs, path: str | os.PathLike | None, *, source: str = "default", style: str = "kai", seed: int = 0,
                size: int = TRACE_SIZE, tolerance: float = FIT_TOL_PX, info: FontInfo | None = None, jobs: int = 1,
-               executor: str = "local", progress: bool = False) -> FontResult:
+               executor: str = "local", progress: bool = False, web: str | os.PathLike | None = None,
+               slice_chars: int = SLICE_CHARS) -> FontResult:
     """A font at path (.otf .ttf .woff2 .ufo) of glyphs: a string of characters (their strokes
     from `source`) or a {char: Glyph} dict, each outline traced from the brush's size x size
-    render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px.
+    render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px;
+    with `web` a folder, also the font cut in unicode-range WOFF2 slices of `slice_chars`
+    characters with their CSS and a demo page (web.py; path may then be None).
     Characters that fail are listed in the result and left out; the font is written when any
     glyph was made, atomically."""
     t0 = time.perf_counter()
     info = (info or FontInfo()).check()
-    check_font_path(path)
-    size, tolerance, executor = check_size(size), check_tolerance(tolerance), check_executor(executor)
-    if int(jobs) < 1:
-        raise ValueError(f"--jobs {jobs}: expected >= 1")
+    size, tolerance, executor = _check_args(path, web, slice_chars, size, tolerance, executor, jobs)
     st = Style.load(style)
-    result = FontResult(path=os.fspath(path), source=source)
+    result = FontResult(path=os.fspath(path) if path is not None else "", source=source)
     loaded = _load_glyphs(glyphs, source, result)
-    folder = Path(os.path.abspath(os.fspath(path))).parent / CACHE_DIR / _cache_key(st, seed, size, tolerance)
+    folder = _cache_root(path, web) / CACHE_DIR / _cache_key(st, seed, size, tolerance)
     folder.mkdir(parents=True, exist_ok=True)
     files = {c: _glyph_file(folder, c, g) for c, g in loaded.items()}
     todo = [c for c in loaded if load_outline(files[c]) is None]
@@ -169,10 +204,7 @@ def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", styl
     done = set(result.made) | set(result.cached)
     outlines = {c: load_outline(files[c]) for c in loaded if c in done}
     if outlines and not result.interrupted:
-        t1 = time.perf_counter()
-        write_font(outlines, path, info)
-        result.write_seconds = time.perf_counter() - t1
-        result.points = [point_count(outlines[c]) for c in outlines]
+        _write(outlines, list(loaded), path, web, slice_chars, info, result)
     result.seconds = time.perf_counter() - t0
     return result
 
@@ -185,7 +217,9 @@ def summary(result: FontResult, shown: int = 20) -> str:
     if result.interrupted:
         lines.append("interrupted: run the same command again to resume (finished glyphs are cached)")
     elif result.points:
-        lines.append(f"wrote {result.path}")
+        lines += [f"wrote {result.path}"] if result.path else []
+        if result.web is not None:
+            lines.append(f"wrote {len(result.web.slices)} WOFF2 slices, {result.web.css} and {result.web.page}")
     lines += [f"  failed {c} (U+{ord(c):04X}): {w}" if len(c) == 1 else f"  failed: {w}"
               for c, w in result.failed[:shown]]
     if len(result.failed) > shown:
