@@ -248,6 +248,7 @@ def test_cli_lists_missing_characters_and_builds_the_rest(tmp_path):
     (["--chars", "十"], "--web"),
     (["--chars", "十", "--web", "{d}/f.web", "--slice-chars", "0"], "--slice-chars"),
     (["--chars", "十", "-o", "{d}/f.otf", "--licence-url", "openfontlicense.org"], "--licence-url"),
+    (["--chars", "十", "-o", "{d}/f.ufo", "--variable"], "--variable"),
 ])
 def test_cli_bad_input_is_one_line_and_no_file(tmp_path, args, why):
     res = _cli(*[a.format(d=tmp_path) for a in args])
@@ -522,3 +523,130 @@ def test_chromium_fetches_only_the_slices_a_page_needs(web, tmp_path):
     line = ink_coverage(shot)[MARGIN_PX:MARGIN_PX + px, MARGIN_PX:MARGIN_PX + len(text) * px]
     drawn = np.concatenate([freetype_line(p, c, px) for c in text for p, chars in web.slices if c in chars], axis=1)
     assert iou(ink_mask(line), drawn >= 0.5) >= 0.97
+
+
+def test_a_cubic_cut_in_two_is_joined_again_and_others_are_not():
+    from brushwork.font.tidy import _split, rejoin
+
+    c = np.array([[0.0, 0.0], [30.0, 80.0], [90.0, 90.0], [120.0, 10.0]])
+    a, b = _split(c, 0.3)
+    assert len(rejoin([a, b])) == 1 and np.allclose(rejoin([a, b])[0], c)
+    bent = b.copy()
+    bent[1] += [0.0, 5.0]                     # the handle turned: not the other part of c
+    assert len(rejoin([a, bent])) == 2
+
+
+def test_extremes_are_on_curve():
+    """A curve that bulges past its ends is split at its extreme, which then lies at the new ends
+    with level handles; one that bulges under EXTREME_UNITS has its handles pulled in."""
+    from brushwork.font.tidy import EXTREME_UNITS, _point, on_curve_extremes
+
+    arch = np.array([[0.0, 0.0], [10.0, 60.0], [90.0, 60.0], [100.0, 0.0]])
+    parts = on_curve_extremes(arch)
+    assert len(parts) == 2 and parts[0][3, 1] == pytest.approx(45.0) and parts[0][2, 1] == parts[1][1, 1] == parts[0][3, 1]
+    flat = np.array([[0.0, 0.0], [30.0, 0.6], [70.0, 0.6], [100.0, 0.0]])
+    (kept,) = on_curve_extremes(flat)
+    assert max(_point(kept, t)[1] for t in np.linspace(0, 1, 101)) <= 1e-9 < 0.45 <= EXTREME_UNITS
+
+
+def test_no_curve_of_the_otf_bulges_past_its_ends(fonts):
+    """Every curve of every glyph keeps within its end points' span along x and y (its extremes
+    on-curve), within half a unit of the rounding to whole units."""
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+    from fontTools.ttLib import TTFont
+
+    u = np.linspace(0.0, 1.0, 65)[:, None]
+    curves = 0
+    with TTFont(fonts[".otf"][0]) as font:
+        glyphs = font.getGlyphSet()
+        for c in CHARS:
+            pen = DecomposingRecordingPen(glyphs)
+            glyphs[font.getBestCmap()[ord(c)]].draw(pen)
+            here = None
+            for op, args in pen.value:
+                if op == "curveTo":
+                    p = np.array([here, *args], dtype=float)
+                    drawn = ((1 - u) ** 3 * p[0] + 3 * (1 - u) ** 2 * u * p[1] + 3 * (1 - u) * u * u * p[2]
+                             + u ** 3 * p[3])
+                    lo, hi = np.minimum(p[0], p[3]) - 0.5, np.maximum(p[0], p[3]) + 0.5
+                    assert ((drawn >= lo) & (drawn <= hi)).all(), (c, p)
+                    curves += 1
+                if args:
+                    here = args[-1]
+    assert curves > 10 * len(CHARS)
+
+
+def test_the_ufo_compiles_with_ufo2ft(fonts, tmp_path):
+    """The UFO opens with ufoLib2 and ufo2ft compiles it to an OTF the Sanitizer accepts."""
+    ufo_lib = pytest.importorskip("ufoLib2")
+    ufo2ft = pytest.importorskip("ufo2ft")
+    pytest.importorskip("ots")
+    from brushwork.font.check import sanitize
+
+    otf = ufo2ft.compileOTF(ufo_lib.Font.open(fonts[".ufo"][0]))
+    otf.save(tmp_path / "from_ufo.otf")
+    assert sanitize(tmp_path / "from_ufo.otf") is None
+    assert {ord(c) for c in CHARS} <= set(otf.getBestCmap())
+
+
+@pytest.fixture(scope="module")
+def variable(tmp_path_factory):
+    """SIMPLE as a variable font, CFF2 and gvar (the masters written once, then cached)."""
+    folder = tmp_path_factory.mktemp("variable")
+    out = {}
+    for ext in (".otf", ".ttf", ".woff2"):
+        res = build_font(SIMPLE, folder / f"v{ext}", variable=True)
+        assert not res.failed
+        out[ext] = folder / f"v{ext}"
+    return out
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf", ".woff2"])
+def test_variable_font_has_a_weight_axis_of_compatible_masters(variable, ext):
+    """CFF2 in the OTF and its WOFF2, gvar in the TTF with every glyph flagged as overlapping; a
+    wght axis from 300 to 700 whose default is the style as it is (400); the Sanitizer accepts it;
+    each stroke is a contour of its own (overlaps kept)."""
+    pytest.importorskip("ots")
+    from fontTools.ttLib import TTFont
+
+    from brushwork.font.check import sanitize
+    from brushwork.glyphs import load_source
+
+    assert sanitize(variable[ext]) is None
+    strokes = {c: len(g.strokes) for c, g in load_source("default", SIMPLE).items()}
+    with TTFont(variable[ext]) as font:
+        (axis,) = font["fvar"].axes
+        assert (axis.axisTag, axis.minValue, axis.defaultValue, axis.maxValue) == ("wght", 300, 400, 700)
+        assert ("glyf" if ext == ".ttf" else "CFF2") in font and ("gvar" in font) == (ext == ".ttf")
+        for c in SIMPLE:
+            name = font.getBestCmap()[ord(c)]
+            if ext == ".ttf":
+                glyph = font["glyf"][name]
+                assert glyph.numberOfContours == strokes[c] and glyph.flags[0] & 0x40
+            else:
+                from fontTools.pens.recordingPen import RecordingPen
+
+                pen = RecordingPen()
+                font.getGlyphSet()[name].draw(pen)
+                assert sum(op == "closePath" for op, _ in pen.value) == strokes[c]
+
+
+@pytest.mark.parametrize("ext", [".otf", ".ttf"])
+def test_variable_instances_draw_the_brush_at_their_press(variable, ext):
+    """FreeType's raster of the instances at the axis's two ends and its middle (300, 500, 700)
+    against the brush writing each character at the press they stand for: IoU >= 0.97; HarfBuzz
+    shapes every code point to its own glyph at each."""
+    pytest.importorskip("uharfbuzz")
+    from brushwork.batch import text_paper
+    from brushwork.font.check import freetype_coverage, iou, shaped_glyphs
+    from brushwork.font.trace import ink_coverage, ink_mask
+    from brushwork.font.variable import master_style, press_factor
+    from brushwork.glyphs import load_source
+    from brushwork.writing import Style
+
+    glyphs, kai = load_source("default", SIMPLE), Style.load("kai")
+    for w in (300, 500, 700):
+        assert shaped_glyphs(variable[ext], SIMPLE, wght=w) == [f"uni{ord(c):04X}" for c in SIMPLE]
+        for c in SIMPLE:
+            ink = ink_mask(ink_coverage(text_paper([glyphs[c]], 512, master_style(kai, press_factor(w))).image()))
+            assert iou(ink, freetype_coverage(variable[ext], c, Em(), wght=w) >= 0.5) >= 0.97, (w, c)

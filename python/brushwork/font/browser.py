@@ -88,15 +88,15 @@ def css_baseline(font_path: str | os.PathLike, px: int) -> float:
     return float(ascent + (px - ascent - descent) // 2)
 
 
-def freetype_line(font_path: str | os.PathLike, text: str, px: int = 128) -> np.ndarray:
-    """(px, len(text) px) float coverage: text rasterised by FreeType, each character's em square
-    a px x px cell, side by side (the layout of one em advance per glyph), the baseline where a
-    browser puts it (css_baseline)."""
+def freetype_line(font_path: str | os.PathLike, text: str, px: int = 128, wght: float | None = None) -> np.ndarray:
+    """(px, len(text) px) float coverage: text rasterised by FreeType (of a variable font, at the
+    instance wght), each character's em square a px x px cell, side by side (the layout of one em
+    advance per glyph), the baseline where a browser puts it (css_baseline)."""
     from .check import freetype_coverage
 
     em = Em(size=px)
     baseline = css_baseline(font_path, px)
-    return np.concatenate([freetype_coverage(font_path, c, em, baseline) for c in text], axis=1)
+    return np.concatenate([freetype_coverage(font_path, c, em, baseline, wght) for c in text], axis=1)
 
 
 def main(argv: list | None = None) -> int:

@@ -20,6 +20,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"the font to write, in the format its suffix names: {' '.join(FORMATS)}")
     p.add_argument("--web", metavar="DIR", help=f"also (or only) the font for the web in DIR: WOFF2 slices of "
                                                 f"--slice-chars characters each, their @font-face CSS, index.html")
+    p.add_argument("--variable", action="store_true",
+                   help="a variable font (-o .otf: CFF2, .ttf: gvar, .woff2) with a wght axis, 300..700: the "
+                        "writing at a lighter and heavier press, every stroke its own contour")
     p.add_argument("--slice-chars", type=int, default=SLICE_CHARS,
                    help=f"characters in each --web slice, in the charset's order (default {SLICE_CHARS})")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
@@ -64,7 +67,8 @@ def handle(args: argparse.Namespace) -> int:
                     licence_url=args.licence_url, copyright=args.copyright, vendor_url=args.vendor_url)
     res = build_font(chars, args.output, source=args.source, style=args.style, seed=args.seed, size=args.size,
                      tolerance=args.tolerance, info=info, jobs=args.jobs, executor=args.executor,
-                     progress=not args.no_progress, web=args.web, slice_chars=args.slice_chars)
+                     progress=not args.no_progress, web=args.web, slice_chars=args.slice_chars,
+                     variable=args.variable)
     print(summary(res))
     if res.interrupted:
         return 130
