@@ -650,3 +650,23 @@ def test_variable_instances_draw_the_brush_at_their_press(variable, ext):
         for c in SIMPLE:
             ink = ink_mask(ink_coverage(text_paper([glyphs[c]], 512, master_style(kai, press_factor(w))).image()))
             assert iou(ink, freetype_coverage(variable[ext], c, Em(), wght=w) >= 0.5) >= 0.97, (w, c)
+
+
+def test_a_hair_out_and_back_is_dropped():
+    """Two segments that go out and come back enclosing under a unit of width are no ink: tidy
+    drops them and the contour goes on from where they left it."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    rec.moveTo((0, 0))
+    rec.lineTo((100, 0))
+    rec.curveTo((103, 0.2), (109, 0.2), (113, 0.3))       # a hair 13 units long
+    rec.curveTo((109, 0.1), (104, 0.1), (100.2, 0.1))      # ... and back
+    rec.lineTo((100, 100))
+    rec.lineTo((0, 100))
+    rec.closePath()
+    ops = [(op, args) for op, args in tidy(rec).value]
+    assert [op for op, _ in ops] == ["moveTo", "lineTo", "lineTo", "lineTo", "closePath"]
+    assert ops[2][1] == ((100.0, 100.0),)

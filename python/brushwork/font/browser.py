@@ -14,10 +14,10 @@ import sys
 import numpy as np
 
 from .outline import Em
+from .web import MARGIN_PX
 
 CHROMIUM = ("chromium", "chromium-browser", "google-chrome")
 DRIVER = ("chromedriver",)
-MARGIN_PX = 16           # white around the line on the page and in the screenshot
 
 
 def find_chromium() -> tuple:

@@ -1,14 +1,15 @@
 """An outline made tidy for a type designer's tools: the extremes of every curve on-curve (a
 curve split at an x or y extreme inside it that bulges past its ends by more than EXTREME_UNITS,
 the handles of a smaller bulge pulled back within the ends' span), and no degenerate segment (one
-whose points all lie within MIN_SEGMENT of where it starts, or a line closing a contour onto its
-first point, which closePath draws)."""
+whose points all lie within MIN_SEGMENT of where it starts, a line closing a contour onto its first
+point, which closePath draws, or a hair: two segments out and back enclosing no ink)."""
 from __future__ import annotations
 
 import numpy as np
 
 MIN_SEGMENT = 1.0       # font units: a segment whose points all lie this close to its start is dropped
 EXTREME_UNITS = 1.0     # font units: a curve bulging past its ends by more than this is split at the extreme
+SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing less width than this is dropped
 REJOIN_UNITS = 0.05     # font units: how far two parts may lie from the parts of the cubic they join into
 EDGE_T = 0.02           # extremes this near a curve's ends (in its parameter) count as at the ends
 
@@ -103,6 +104,36 @@ def _contours(rec) -> list:
     return out
 
 
+def _drawn(seg: np.ndarray) -> np.ndarray:
+    """Points along a segment ((2, 2) line or (4, 2) cubic, its start first)."""
+    return seg if len(seg) == 2 else np.array([_point(seg, t) for t in np.linspace(0.0, 1.0, 9)])
+
+
+def _spike(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether segment a, then b, go out and come back: b ends within MIN_SEGMENT of a's start and
+    the two enclose less than SPIKE_WIDTH units of width along a's chord (a hair, no ink)."""
+    if np.abs(b[-1] - a[0]).max() >= MIN_SEGMENT:
+        return False
+    p = np.concatenate([_drawn(a), _drawn(b)])
+    area = 0.5 * abs(float(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(np.roll(p[:, 0], -1), p[:, 1])))
+    return area < SPIKE_WIDTH * max(float(np.linalg.norm(a[-1] - a[0])), 1e-9)
+
+
+def _drop_spikes(segs: list) -> list:
+    """segs [(op, points from its start)] without the out-and-back pairs _spike finds, the
+    segment after one starting where the pair did."""
+    out: list = []
+    begin = None            # where a dropped pair started: the next segment starts there
+    for op, pts in segs:
+        if begin is not None:
+            pts, begin = np.concatenate([[begin], pts[1:]]), None
+        if out and _spike(out[-1][1], pts):
+            begin = out.pop()[1][0]
+            continue
+        out.append((op, pts))
+    return out
+
+
 def _segments(start: np.ndarray, segments: list) -> list:
     """The contour's segments as ("curveTo", (4, 2)) and ("lineTo", (2, 2)) arrays from their
     start points, the degenerate ones dropped, curves rejoined and their extremes put on-curve."""
@@ -115,6 +146,7 @@ def _segments(start: np.ndarray, segments: list) -> list:
         here = pts[-1]
     if out and out[-1][0] == "lineTo" and np.abs(out[-1][1][1] - start).max() < MIN_SEGMENT:
         out.pop()          # closePath draws the line back to the start
+    out = _drop_spikes(out)
     joined: list = []
     for op, pts in out:
         if op == "curveTo" and joined and joined[-1][0] == "curveTo":

@@ -12,10 +12,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..files import write_atomic
-from .browser import MARGIN_PX
 
 SLICE_CHARS = 64        # characters a slice: GB2312's 6,763 in 106 slices
 DEMO_PX = 48            # the demo page's font size
+MARGIN_PX = 16           # white around the line on the page and in the screenshot
 DEMO_CHARS = 40         # characters of the demo paragraph (the first of the font's)
 
 
