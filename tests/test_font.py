@@ -637,7 +637,7 @@ def test_variable_instances_draw_the_brush_at_their_press(variable, ext):
     against the brush writing each character at the press they stand for: IoU >= 0.97; HarfBuzz
     shapes every code point to its own glyph at each."""
     pytest.importorskip("uharfbuzz")
-    from brushwork.batch import text_paper
+    from brushwork.writing import text_paper
     from brushwork.font.check import freetype_coverage, iou, shaped_glyphs
     from brushwork.font.trace import ink_coverage, ink_mask
     from brushwork.font.variable import master_style, press_factor
@@ -670,3 +670,17 @@ def test_a_hair_out_and_back_is_dropped():
     ops = [(op, args) for op, args in tidy(rec).value]
     assert [op for op, _ in ops] == ["moveTo", "lineTo", "lineTo", "lineTo", "closePath"]
     assert ops[2][1] == ((100.0, 100.0),)
+
+
+def test_a_contour_that_is_a_hair_is_dropped():
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    for shape in (((0, 0), (100, 0), (100, 100), (0, 100)), ((200, 0), (213, 0.4), (200, 0.7))):
+        rec.moveTo(shape[0])
+        for p in shape[1:]:
+            rec.lineTo(p)
+        rec.closePath()
+    assert [op for op, _ in tidy(rec).value] == ["moveTo", "lineTo", "lineTo", "lineTo", "closePath"]

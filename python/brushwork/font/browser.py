@@ -99,24 +99,33 @@ def freetype_line(font_path: str | os.PathLike, text: str, px: int = 128, wght: 
     return np.concatenate([freetype_coverage(font_path, c, em, baseline, wght) for c in text], axis=1)
 
 
-def main(argv: list | None = None) -> int:
+def picture_main(prog: str, description: str, draw, argv: list | None = None, more=None) -> int:
+    """The command line of a picture of a line set in a font: FONT TEXT OUTPUT [--px N] and what
+    more(parser) adds; draw(args) -> (H, W, 3) uint8 BGR is written to OUTPUT. Bad input: one
+    line on stderr, exit code 2."""
     import argparse
 
     from ..files import write_image
 
-    p = argparse.ArgumentParser(prog="python -m brushwork.font.browser", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog=prog, description=description)
     p.add_argument("font")
     p.add_argument("text")
     p.add_argument("output")
     p.add_argument("--px", type=int, default=128)
+    if more is not None:
+        more(p)
     args = p.parse_args(argv)
     try:
-        rgb = chromium_line(args.font, args.text, args.px)
-        print(f"wrote {write_image(args.output, np.ascontiguousarray(rgb[..., ::-1]))}")
+        print(f"wrote {write_image(args.output, np.ascontiguousarray(draw(args)))}")
     except (OSError, ValueError, RuntimeError) as err:
         print(f"brushwork: error: {' '.join(str(err).split())}", file=sys.stderr)
         return 2
     return 0
+
+
+def main(argv: list | None = None) -> int:
+    return picture_main("python -m brushwork.font.browser", __doc__.splitlines()[0],
+                        lambda a: chromium_line(a.font, a.text, a.px)[..., ::-1], argv)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,8 @@
 curve split at an x or y extreme inside it that bulges past its ends by more than EXTREME_UNITS,
 the handles of a smaller bulge pulled back within the ends' span), and no degenerate segment (one
 whose points all lie within MIN_SEGMENT of where it starts, a line closing a contour onto its first
-point, which closePath draws, or a hair: two segments out and back enclosing no ink)."""
+point, which closePath draws, or a hair: two segments out and back, or a whole contour, enclosing
+no ink)."""
 from __future__ import annotations
 
 import numpy as np
@@ -109,14 +110,19 @@ def _drawn(seg: np.ndarray) -> np.ndarray:
     return seg if len(seg) == 2 else np.array([_point(seg, t) for t in np.linspace(0.0, 1.0, 9)])
 
 
-def _spike(a: np.ndarray, b: np.ndarray) -> bool:
-    """Whether segment a, then b, go out and come back: b ends within MIN_SEGMENT of a's start and
-    the two enclose less than SPIKE_WIDTH units of width along a's chord (a hair, no ink)."""
-    if np.abs(b[-1] - a[0]).max() >= MIN_SEGMENT:
-        return False
-    p = np.concatenate([_drawn(a), _drawn(b)])
+def _hair(segs: list) -> bool:
+    """Whether the closed run of segments segs (each (k, 2) from its start) encloses less than
+    SPIKE_WIDTH units of width: its area under SPIKE_WIDTH times half its length (no ink)."""
+    p = np.concatenate([_drawn(seg) for seg in segs])
     area = 0.5 * abs(float(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(np.roll(p[:, 0], -1), p[:, 1])))
-    return area < SPIKE_WIDTH * max(float(np.linalg.norm(a[-1] - a[0])), 1e-9)
+    length = float(np.sum(np.linalg.norm(np.diff(np.concatenate([p, p[:1]]), axis=0), axis=1)))
+    return area < SPIKE_WIDTH * length / 2
+
+
+def _spike(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether segment a, then b, go out and come back (b ending within MIN_SEGMENT of a's start)
+    as a hair."""
+    return np.abs(b[-1] - a[0]).max() < MIN_SEGMENT and _hair([a, b])
 
 
 def _drop_spikes(segs: list) -> list:
@@ -167,7 +173,7 @@ def tidy(rec):
     out = RecordingPen()
     for start, segments, close in _contours(rec):
         kept = _segments(start, segments)
-        if not kept:
+        if not kept or _hair([pts for _, pts in kept]):
             continue
         out.moveTo(tuple(start.tolist()))
         for op, pts in kept:

@@ -15,8 +15,7 @@ def weights_picture(path, text: str, glyphs: dict, style, px: int = 128, weights
     """(2 px, len(weights) len(text) px + gaps) uint8 grey, black on white: the brush writing text
     at each weight's press (top row) above FreeType's raster of the variable font at path at that
     wght (bottom row), the weights left to right, GAP_EM of an em apart."""
-    from ..batch import text_paper
-    from ..writing import Style
+    from ..writing import Style, text_paper
     from .browser import freetype_line
     from .trace import ink_coverage
 
@@ -31,28 +30,17 @@ def weights_picture(path, text: str, glyphs: dict, style, px: int = 128, weights
 
 
 def main(argv: list | None = None) -> int:
-    """python -m brushwork.font.weights FONT TEXT OUT.png [--px N]: the brush writing TEXT at
-    wght 300, 500 and 700, each above the variable FONT's instance there (FreeType)."""
-    import argparse
-    import sys
-
-    from ..files import write_image
+    """python -m brushwork.font.weights FONT TEXT OUT.png [--px N] [--style S]: the brush writing
+    TEXT at wght 300, 500 and 700, each above the variable FONT's instance there (FreeType)."""
     from ..glyphs import load_source
+    from .browser import picture_main
 
-    p = argparse.ArgumentParser(prog="python -m brushwork.font.weights", description=main.__doc__.splitlines()[0])
-    p.add_argument("font")
-    p.add_argument("text")
-    p.add_argument("output")
-    p.add_argument("--px", type=int, default=128)
-    p.add_argument("--style", default="kai")
-    args = p.parse_args(argv)
-    try:
-        img = weights_picture(args.font, args.text, load_source("default", args.text), args.style, args.px)
-        print(f"wrote {write_image(args.output, np.repeat(img[..., None], 3, axis=2))}")
-    except (OSError, ValueError, RuntimeError) as err:
-        print(f"brushwork: error: {' '.join(str(err).split())}", file=sys.stderr)
-        return 2
-    return 0
+    def draw(a) -> np.ndarray:
+        grey = weights_picture(a.font, a.text, load_source("default", a.text), a.style, a.px)
+        return np.repeat(grey[..., None], 3, axis=2)
+
+    return picture_main("python -m brushwork.font.weights", main.__doc__.splitlines()[0], draw, argv,
+                        lambda p: p.add_argument("--style", default="kai", help="writing style (default kai)"))
 
 
 if __name__ == "__main__":
