@@ -383,13 +383,13 @@ def test_a_tolerance_bounds_the_mean_distance_of_each_curve():
     a = np.linspace(0, 2 * np.pi, 400, endpoint=False)
     wavy = np.stack([50 + (30 + 3 * np.sin(7 * a)) * np.cos(a), 50 + (30 + 3 * np.sin(7 * a)) * np.sin(a)], axis=1)
     counts = {}
-    for tol in (0.1, 1.0):
+    for tol in (0.05, 1.0):
         curves = fit_closed(wavy, tol, 0.5)
         drawn = np.concatenate([_bezier(c, np.linspace(0, 1, 200)) for c in curves])
         dist = np.min(np.linalg.norm(wavy[:, None, :] - drawn[None, :, :], axis=2), axis=1)
         assert dist.mean() <= tol
         counts[tol] = len(curves)
-    assert counts[0.1] > counts[1.0]
+    assert counts[0.05] > counts[1.0]
 
 
 def test_pinholes_under_a_pixel_are_dropped_and_larger_holes_kept():
@@ -684,3 +684,22 @@ def test_a_contour_that_is_a_hair_is_dropped():
             rec.lineTo(p)
         rec.closePath()
     assert [op for op, _ in tidy(rec).value] == ["moveTo", "lineTo", "lineTo", "lineTo", "closePath"]
+
+
+def test_the_fit_cuts_at_the_extremes_with_level_handles():
+    """A tilted ellipse is cut at its four x and y extremes: no curve bulges past its ends along x
+    or y by more than a tenth of a pixel, and the handles at each extreme are level or plumb."""
+    from brushwork.font.fit import _bezier, fit_closed
+
+    a = np.linspace(0, 2 * np.pi, 700, endpoint=False)
+    x, y = 60 * np.cos(a), 25 * np.sin(a)
+    t = np.radians(20)
+    ellipse = np.stack([100 + x * np.cos(t) - y * np.sin(t), 100 + x * np.sin(t) + y * np.cos(t)], axis=1)
+    curves = fit_closed(ellipse, 0.25, 0.5)
+    u = np.linspace(0, 1, 101)[:, None]
+    for c in curves:
+        drawn = _bezier(c, u[:, 0])
+        lo, hi = np.minimum(c[0], c[3]) - 0.1, np.maximum(c[0], c[3]) + 0.1
+        assert ((drawn >= lo) & (drawn <= hi)).all(), c
+    tops = [c for c in curves if abs(c[0, 1] - ellipse[:, 1].max()) < 0.5]
+    assert tops and all(abs(c[1, 1] - c[0, 1]) < 1e-9 for c in tops)

@@ -27,7 +27,7 @@ from .variable import MASTERS, master_outlines, write_variable
 from .web import SLICE_CHARS, check_slice_chars, write_web
 
 CACHE_DIR = ".brushwork-font-cache"
-OUTLINE_FORMAT = 3          # the cache files' layout and the tracer's: a change makes new keys
+OUTLINE_FORMAT = 4          # the cache files' layout and the tracer's: a change makes new keys
 
 
 @dataclass
