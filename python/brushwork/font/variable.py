@@ -4,8 +4,8 @@ master's factor (MASTERS); every stroke its own closed contour, overlaps kept.
 
 Masters are made interpolation-compatible stroke by stroke: each stroke's ink is taken off the
 paper as it is written (the brush, its ink and the character's other strokes as in the whole
-writing), its outer edge traced and cut at its two tips (the contour's farthest-apart points,
-the first matched to the regular master's), each half sampled at the same fractions of its own
+writing), its outer edge traced and cut at its two tips (the regular master's farthest-apart
+points, in the other masters the points nearest those), each half sampled at the same fractions of its own
 length in every master; the regular master's samples are fitted (fit.py) and every master's are
 fitted with the same cuts, each piece one cubic between the tangents of its own samples. fontTools'
 varLib merges the masters: CFF2 in an OTF, gvar in a TTF (quadratics compatible across masters by
@@ -72,13 +72,17 @@ def _arc(p: np.ndarray, n: int) -> np.ndarray:
     return np.stack([np.interp(s, d, p[:, 0]), np.interp(s, d, p[:, 1])], axis=1)
 
 
-def ring(edge: np.ndarray, first_tip: np.ndarray | None) -> np.ndarray:
+def ring(edge: np.ndarray, tips: tuple | None = None) -> np.ndarray:
     """The closed edge (n, 2) as 2 HALF_SAMPLES points: from one tip to the other, then back, each
-    half sampled evenly along its length; the first tip is the one nearer first_tip when given."""
+    half sampled evenly along its length; the tips are its farthest-apart points, or its points
+    nearest `tips` (the default master's, so that every master's halves start at the same ends)."""
     p = resample_closed(edge, SPACING_PX)
-    i, j = _tips(p)
-    if first_tip is not None and np.linalg.norm(p[j] - first_tip) < np.linalg.norm(p[i] - first_tip):
-        i, j = j, i
+    if tips is None:
+        i, j = _tips(p)
+    else:
+        i, j = (int(np.argmin(np.linalg.norm(p - t, axis=1))) for t in tips)
+        if i == j:
+            i, j = _tips(p)
     p = np.roll(p, -i, axis=0)
     j = (j - i) % len(p)
     closed = np.concatenate([p, p[:1]])
@@ -147,8 +151,9 @@ def master_outlines(glyph, em: Em, style, seed: int = 0, masters: dict = MASTERS
     for k in range(len(glyph.strokes)):
         if any(edges[w][k] is None for w in masters):
             raise ValueError(f"stroke {k + 1} of {glyph.char} leaves no ink at some weight")
-        ref = ring(edges[DEFAULT_WGHT][k], None)
-        rings = {w: ref if w == DEFAULT_WGHT else ring(edges[w][k], ref[0]) for w in masters}
+        ref = ring(edges[DEFAULT_WGHT][k])
+        tips = (ref[0], ref[HALF_SAMPLES])
+        rings = {w: ref if w == DEFAULT_WGHT else ring(edges[w][k], tips) for w in masters}
         at = shared_cuts([ref] + [r for w, r in rings.items() if w != DEFAULT_WGHT])
         for w in masters:
             out[w].append(em.to_font(fit_at(rings[w], at)))
@@ -212,10 +217,24 @@ def _designspace(fonts: dict):
         src = SourceDescriptor()
         src.font, src.name, src.location = font, f"wght{w}", {"Weight": w}
         doc.addSource(src)
+    for w in _named_weights(fonts):
         inst = InstanceDescriptor()
-        inst.styleName, inst.location = WEIGHT_NAMES.get(w, f"W{w}"), {"Weight": w}
+        inst.styleName, inst.location = WEIGHT_NAMES[w], {"Weight": w}
         doc.addInstance(inst)
     return doc
+
+
+def _named_weights(fonts: dict) -> list:
+    """The standard weights (WEIGHT_NAMES) within the masters' span: the named instances."""
+    return [w for w in sorted(WEIGHT_NAMES) if min(fonts) <= w <= max(fonts)]
+
+
+def _stat(vf, weights: list) -> None:
+    """A STAT table naming each of the weights on the wght axis, Regular elidable."""
+    from fontTools.otlLib.builder import buildStatTable
+
+    values = [{"value": w, "name": WEIGHT_NAMES[w], **({"flags": 0x2} if w == DEFAULT_WGHT else {})} for w in weights]
+    buildStatTable(vf, [{"tag": "wght", "name": "Weight", "values": values}])
 
 
 WEIGHT_NAMES = {100: "Thin", 200: "ExtraLight", 300: "Light", 400: "Regular", 500: "Medium", 600: "SemiBold",
@@ -234,8 +253,9 @@ def make_variable(masters: dict, info, cff: bool = True):
     for w, outlines in masters.items():
         draw = (lambda c, contours: _ccw(contours)) if cff else (lambda c, contours, q=quads[w]: q[c])
         fonts[w] = make_font(outlines, info, cff=cff, draw=draw)
-    vf, _, _ = varLib.build(_designspace(fonts), exclude=["BASE"])
+    vf, _, _ = varLib.build(_designspace(fonts), exclude=["BASE", "STAT"])
     vf["BASE"] = fonts[DEFAULT_WGHT]["BASE"]
+    _stat(vf, _named_weights(fonts))
     if not cff:
         for name in vf.getGlyphOrder():
             glyph = vf["glyf"][name]
