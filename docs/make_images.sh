@@ -25,5 +25,8 @@ fonts="$work/font"
 mkdir -p "$fonts"
 "$bw" font --chars 永和九年岁在癸丑暮春 -o "$fonts/line.woff2" --no-progress
 "$py" -m brushwork.font.browser "$fonts/line.woff2" 永和九年岁在癸丑暮春 docs/font_line.png --px 96
+# the brush at three presses above the variable font's instances there
+"$bw" font --chars 永和九年 -o "$fonts/weights.otf" --variable --no-progress
+"$py" -m brushwork.font.weights "$fonts/weights.otf" 永和九年 docs/font_weights.png --px 96
 # the page of `brushwork paint`, as its test in headless Chromium paints it (needs the paint extra and chromium)
 BRUSHWORK_SCREENSHOT=docs/paint.png "$py" -m pytest -q tests/test_paint.py -k paints_with_a_pen

@@ -1,8 +1,9 @@
 """Fonts from outlines: OpenType with CFF (.otf) or TrueType glyf (.ttf) outlines, WOFF2 (.woff2,
 the CFF font compressed with Brotli) through fontTools' FontBuilder, and UFO (.ufo) through
 ufoLib2. Every glyph's contours are unioned by skia-pathops (overlaps removed, winding made
-consistent), wound counter-clockwise for CFF and UFO and clockwise for glyf, whose quadratics
-cu2qu makes from the cubics within QUAD_ERR font units."""
+consistent) and tidied (tidy.py: the curves skia cut joined again, extremes on-curve, no degenerate
+segment), wound counter-clockwise for CFF and UFO and clockwise for glyf, whose quadratics
+cu2qu makes from the cubics within QUAD_ERR font units. An OTF's CFF is subroutinised (cffsubr)."""
 from __future__ import annotations
 
 import os
@@ -14,15 +15,19 @@ import numpy as np
 
 from ..files import check_writable, os_error_text, write_atomic
 from .outline import ASCENDER, DESCENDER, UPM
+from .tidy import tidy
 
 FORMATS = (".otf", ".ttf", ".woff2", ".ufo")
-QUAD_ERR = 0.5            # font units: the farthest a glyf quadratic strays from its cubic
+QUAD_ERR = 1.0            # font units: the farthest a glyf quadratic strays from its cubic
 SIMPLIFY_AREA_TOL = 0.002  # the most skia's union may change a glyph's ink area by, as a fraction of it
 NOTDEF_MARGIN = 0.1       # of the em: the .notdef box's inset
 # the blank glyphs every font carries: char -> (glyph name, advance in ems)
 SPACES = {" ": ("space", 0.25), "\u00a0": ("uni00A0", 0.25), "\u3000": ("uni3000", 1.0)}
 # OS/2 ulCodePageRange1 bits of the CJK code pages, by the Python codec of each
 CODEPAGE_BITS = {"cp932": 17, "gb2312": 18, "cp949": 19, "big5": 20}
+# the meta table's script of each, first match wins
+META_SCRIPTS = {"gb2312": "Hans", "big5": "Hant", "cp932": "Jpan", "cp949": "Kore"}
+LINE_PAD = 0.1            # em: the line's room above the em box's top and below its bottom (hhea, win)
 
 
 @dataclass
@@ -32,6 +37,9 @@ class FontInfo:
     version: str = "1.0"
     licence: str = ("Outlines written by brushwork's simulated brush from stroke centrelines; the "
                     "licence of the stroke data applies (bundled data: Arphic Public License).")
+    licence_url: str = ""        # name ID 14, omitted when empty
+    copyright: str = ""          # name ID 0, omitted when empty
+    vendor_url: str = ""         # name ID 11, omitted when empty
     upm: int = UPM
     ascender: int = ASCENDER
     descender: int = DESCENDER
@@ -44,6 +52,9 @@ class FontInfo:
             raise ValueError(f"--version {self.version!r}: expected MAJOR.MINOR, e.g. 1.0")
         if not self.family.strip() or len(self.family) > 63 or not self.family.isprintable():
             raise ValueError(f"--family {self.family!r}: expected 1..63 printable characters")
+        for option, url in (("--licence-url", self.licence_url), ("--vendor-url", self.vendor_url)):
+            if url and (not url.startswith(("http://", "https://")) or not url.isprintable() or " " in url):
+                raise ValueError(f"{option} {url!r}: expected an http:// or https:// URL")
         return self
 
     @property
@@ -125,6 +136,7 @@ def clean_outline(contours: list):
 
     rec = RecordingPen()
     _simplified(contours).draw(rec)
+    rec = tidy(rec)
     area = AreaPen()
     rec.replay(area)
     if area.value < 0:          # skia winds outer contours clockwise: turn them the PostScript way
@@ -193,28 +205,53 @@ def _timestamp() -> int:
 
 
 def _names(info: FontInfo) -> dict:
-    return {"familyName": info.family, "styleName": info.style, "fullName": f"{info.family} {info.style}",
-            "psName": info.ps_name, "uniqueFontIdentifier": f"{info.version};brushwork;{info.ps_name}",
-            "version": f"Version {info.version}", "licenseDescription": info.licence}
+    """The name table's strings: the empty optional ones (copyright, URLs) left out."""
+    names = {"copyright": info.copyright, "familyName": info.family, "styleName": info.style,
+             "uniqueFontIdentifier": f"{info.version};BRSH;{info.ps_name}", "fullName": f"{info.family} {info.style}",
+             "version": f"Version {info.version}", "psName": info.ps_name, "vendorURL": info.vendor_url,
+             "licenseDescription": info.licence, "licenseInfoURL": info.licence_url}
+    return {k: v for k, v in names.items() if v}
+
+
+def line_metrics(info: FontInfo, bounds: list) -> tuple:
+    """(ascent, descent >= 0) font units of hhea and OS/2's win metrics, as Google Fonts' CJK
+    vertical metrics have them: the em box (the typo ascender and descender) with LINE_PAD em
+    above and below, a line 1 + 2 LINE_PAD em high (1.1..1.5 em) that keeps the em box at its
+    middle, widened where a glyph (bounds (xMin, yMin, xMax, yMax)) reaches past it."""
+    pad = LINE_PAD * info.upm
+    top = max([info.ascender + pad] + [b[3] for b in bounds])
+    bottom = min([info.descender - pad] + [b[1] for b in bounds])
+    return int(np.ceil(top)), int(np.ceil(-bottom))
 
 
 def _os2(fb, info: FontInfo, bounds: list, chars: str) -> None:
-    """OS/2 version 4: typo metrics used for line spacing (fsSelection bit 7), win metrics that
-    clear every glyph, and the Unicode-range and code-page bits of the characters mapped."""
-    top = max([info.ascender] + [b[3] for b in bounds])
-    bottom = min([info.descender] + [b[1] for b in bounds])
+    """OS/2 version 4: typo metrics of the em box with no line gap, win metrics as line_metrics
+    (fsSelection bit 7 clear, as Google Fonts' CJK schema wants: the win and hhea metrics, equal,
+    set the line), and the Unicode-range and code-page bits of the characters mapped."""
+    ascent, descent = line_metrics(info, bounds)
     # PANOSE: Latin text family, monospaced proportion (every ideograph is one em wide)
     from fontTools.ttLib.tables.O_S_2f_2 import Panose
 
     panose = Panose()
     panose.bFamilyType, panose.bProportion = 2, 9
     fb.setupOS2(version=4, panose=panose, sTypoAscender=info.ascender, sTypoDescender=info.descender, sTypoLineGap=0,
-                usWinAscent=int(np.ceil(top)), usWinDescent=int(np.ceil(-bottom)), fsSelection=0x40 | 0x80,
-                achVendID="BRSH", fsType=0)
+                usWinAscent=ascent, usWinDescent=descent, fsSelection=0x40, achVendID="BRSH", fsType=0)
     os2 = fb.font["OS/2"]
     os2.recalcAvgCharWidth(fb.font)
     os2.recalcUnicodeRanges(fb.font)
     os2.ulCodePageRange1, os2.ulCodePageRange2 = code_pages(chars), 0
+
+
+def _meta(font, chars: str) -> None:
+    """A meta table naming the script the font is designed for and supports (dlng, slng): the
+    CJK code page most of its characters are in, else Hani."""
+    from fontTools.ttLib import newTable
+
+    bits = code_pages(chars)
+    tag = next((t for codec, t in META_SCRIPTS.items() if bits >> CODEPAGE_BITS[codec] & 1), "Hani")
+    meta = newTable("meta")
+    meta.data = {"dlng": tag, "slng": tag}
+    font["meta"] = meta
 
 
 def _encodes(char: str, codec: str) -> bool:
@@ -236,6 +273,36 @@ def code_pages(chars: str) -> int:
     return bits
 
 
+# BASE: the scripts set on the ideographic baseline (the em box's bottom) and those on the Roman one
+BASE_SCRIPTS = (("DFLT", "ideo"), ("cyrl", "romn"), ("grek", "romn"), ("hang", "ideo"), ("hani", "ideo"),
+                ("kana", "ideo"), ("latn", "romn"))
+
+
+def face_extent(boxes: list, axis: int) -> tuple:
+    """(low, high) font units: the ideographic character face along axis (0 x, 1 y), the median
+    of the glyphs' ink boxes' low and high edges (boxes (xMin, yMin, xMax, yMax)) over the set."""
+    lows = [b[axis] for b in boxes]
+    highs = [b[axis + 2] for b in boxes]
+    return int(round(float(np.median(lows)))), int(round(float(np.median(highs))))
+
+
+def base_feature(info: FontInfo, boxes: list) -> str:
+    """The BASE table as feature syntax: for horizontal and vertical writing the ideographic em
+    box (ideo, idtp: the typo descender and ascender across, the em's left and right edges down),
+    the ideographic character face (icfb, icft: the ink's extent over the set, face_extent) and
+    the Roman baseline (romn: y 0 across, the descender's depth from the left edge down)."""
+    if not boxes:
+        boxes = [(0, info.descender, info.upm, info.ascender)]
+    axes = {"HorizAxis": (*face_extent(boxes, 1), info.descender, info.ascender, 0),
+            "VertAxis": (*face_extent(boxes, 0), 0, info.upm, -info.descender)}
+    lines = ["table BASE {"]
+    for axis, values in axes.items():
+        coords = " ".join(map(str, values))
+        scripts = ",\n    ".join(f"{tag} {default} {coords}" for tag, default in BASE_SCRIPTS)
+        lines += [f"  {axis}.BaseTagList icfb icft ideo idtp romn;", f"  {axis}.BaseScriptList {scripts};"]
+    return "\n".join(lines + ["} BASE;"])
+
+
 def _smart_dropout(font) -> None:
     """An unhinted TrueType font's prep program turning smart dropout control on at every size
     (SCANCTRL 511, SCANTYPE 4), and a gasp table asking for grey-scale smoothing throughout."""
@@ -251,29 +318,31 @@ def _smart_dropout(font) -> None:
     font["gasp"] = gasp
 
 
-def _glyphs(outlines: dict, info: FontInfo) -> tuple:
+def _glyphs(outlines: dict, info: FontInfo, draw=None) -> tuple:
     """(glyph names, their RecordingPens, their advances, code point -> name): .notdef, the
-    spaces, then the outlines' glyphs in code-point order."""
+    spaces, then the outlines' glyphs in code-point order, each drawn by draw(char, contours)
+    (default: clean_outline of the contours)."""
     from fontTools.pens.recordingPen import RecordingPen
 
     chars = sorted(outlines, key=ord)
     spaces = [(c, n, round(w * info.upm)) for c, (n, w) in SPACES.items() if c not in outlines]
     names = [".notdef"] + [n for _, n, _ in spaces] + [glyph_name(c) for c in chars]
     recs = [notdef(info.upm, info.ascender, info.descender)] + [RecordingPen() for _ in spaces] + \
-        [clean_outline(outlines[c]) for c in chars]
+        [draw(c, outlines[c]) if draw else clean_outline(outlines[c]) for c in chars]
     advances = [info.upm] + [w for _, _, w in spaces] + [info.upm] * len(chars)
     cmap = {ord(c): n for c, n, _ in spaces} | {ord(c): glyph_name(c) for c in chars}
     return names, recs, advances, cmap
 
 
-def make_font(outlines: dict, info: FontInfo, cff: bool = True):
+def make_font(outlines: dict, info: FontInfo, cff: bool = True, draw=None):
     """A fontTools TTFont of the outlines ({char: contours in font units}), each glyph one em wide
     and one em tall (vertical metrics set for vertical CJK text), with CFF outlines or, when cff is
-    False, glyf quadratics; with .notdef and the SPACES."""
+    False, glyf quadratics (cu2qu makes those of cubics); with .notdef and the SPACES. draw(char,
+    contours) -> RecordingPen draws a glyph (default: clean_outline, overlaps removed)."""
     from fontTools.fontBuilder import FontBuilder
 
-    names, recs, advances, cmap = _glyphs(outlines, info)
-    bounds = [_bounds(r) for r in recs]
+    names, recs, advances, cmap = _glyphs(outlines, info, draw)
+    bounds = tight = [_bounds(r) for r in recs]
     fb = FontBuilder(info.upm, isTTF=not cff)
     fb.setupGlyphOrder(names)
     fb.setupCharacterMap(cmap)
@@ -287,7 +356,8 @@ def make_font(outlines: dict, info: FontInfo, cff: bool = True):
         bounds = [_glyf_bounds(fb.font["glyf"], n) for n in names]
         _smart_dropout(fb.font)
     fb.setupHorizontalMetrics({n: (w, int(np.floor(b[0]))) for n, w, b in zip(names, advances, bounds)})
-    fb.setupHorizontalHeader(ascent=info.ascender, descent=info.descender)
+    ascent, descent = line_metrics(info, bounds)
+    fb.setupHorizontalHeader(ascent=ascent, descent=-descent, lineGap=0)
     # vertical: one em advance down; a glyph's top side bearing from the em box's top (the ascender)
     fb.setupVerticalHeader(ascent=info.upm // 2, descent=-(info.upm - info.upm // 2))
     fb.setupVerticalMetrics({n: (info.upm, int(np.floor(info.ascender - b[3]))) for n, b in zip(names, bounds)})
@@ -295,7 +365,10 @@ def make_font(outlines: dict, info: FontInfo, cff: bool = True):
         fb.setupVerticalOrigins({}, info.ascender)
     fb.setupNameTable(_names(info), mac=False)
     _os2(fb, info, bounds, "".join(outlines))
-    fb.setupPost(keepGlyphNames=not cff)
+    ink = [b for n, b in zip(names, tight) if n in set(cmap.values()) and b[2] > b[0]]
+    fb.addOpenTypeFeatures(base_feature(info, ink))
+    _meta(fb.font, "".join(outlines))
+    fb.setupPost(keepGlyphNames=False)
     stamp = _timestamp()
     fb.setupHead(unitsPerEm=info.upm, fontRevision=float(info.version), created=stamp, modified=stamp)
     fb.setupMaxp()
@@ -351,5 +424,15 @@ def write_font(outlines: dict, path: str | os.PathLike, info: FontInfo | None = 
     font = make_font(outlines, info, cff=suffix != ".ttf")
     if suffix == ".woff2":
         font.flavor = "woff2"
+    elif suffix == ".otf":
+        subroutinize(font)
     write_atomic(path, font.save, suffix=suffix)
     return path
+
+
+def subroutinize(font) -> None:
+    """font's CFF charstrings with their shared runs moved into subroutines (cffsubr, AFDKO's tx):
+    an OTF about 5% smaller. A WOFF2 is left without: Brotli packs the plain charstrings tighter."""
+    import cffsubr
+
+    cffsubr.subroutinize(font)

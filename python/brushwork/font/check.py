@@ -21,14 +21,17 @@ def sanitize(path: str | os.PathLike) -> str | None:
     return None if res.returncode == 0 else (res.stderr or res.stdout).decode(errors="replace").strip()
 
 
-def shaped_glyphs(path: str | os.PathLike, text: str) -> list:
-    """The glyph names HarfBuzz shapes text into with the font at path, one per cluster."""
+def shaped_glyphs(path: str | os.PathLike, text: str, wght: float | None = None) -> list:
+    """The glyph names HarfBuzz shapes text into with the font at path (of a variable font, at
+    the instance wght), one per cluster."""
     import uharfbuzz as hb
     from fontTools.ttLib import TTFont
 
     with open(path, "rb") as f:
         face = hb.Face(f.read())
     font = hb.Font(face)
+    if wght is not None:
+        font.set_variations({"wght": wght})
     buf = hb.Buffer()
     buf.add_str(text)
     buf.guess_segment_properties()
@@ -57,13 +60,16 @@ def _freetype_face(path: str | os.PathLike):
     return freetype.Face(os.fspath(path))
 
 
-def freetype_coverage(path: str | os.PathLike, char: str, em: Em, baseline: float | None = None) -> np.ndarray:
+def freetype_coverage(path: str | os.PathLike, char: str, em: Em, baseline: float | None = None,
+                      wght: float | None = None) -> np.ndarray:
     """(N, N) float coverage in [0, 1] of char's glyph rasterised by FreeType unhinted at
     N = em.size px per em, placed in the em square as the brush's N x N render is (or with the
-    baseline `baseline` px below the top edge)."""
+    baseline `baseline` px below the top edge); of a variable font, at the instance wght."""
     import freetype
 
     face = _freetype_face(path)
+    if wght is not None:
+        face.set_var_design_coords((wght,))
     face.set_pixel_sizes(em.size, em.size)
     base = em.ascender * em.size / em.upm if baseline is None else baseline   # px below the top edge
     row, frac = int(np.floor(base)), base - np.floor(base)
@@ -93,6 +99,23 @@ def iou(a: np.ndarray, b: np.ndarray) -> float:
     """Intersection over union of two boolean masks (1 when both are empty)."""
     union = np.count_nonzero(a | b)
     return np.count_nonzero(a & b) / union if union else 1.0
+
+
+def glyph_points(path: str | os.PathLike) -> dict:
+    """{char: points of its glyph as the font at path stores them}: every on- and off-curve point
+    of its contours (a CFF curve three, a line one; a glyf contour's stored points), the point
+    that closes a contour onto its start not counted again."""
+    from fontTools.pens.recordingPen import DecomposingRecordingPen
+    from fontTools.ttLib import TTFont
+
+    out = {}
+    with TTFont(os.fspath(path)) as font:
+        glyphs = font.getGlyphSet()
+        for cp, name in font.getBestCmap().items():
+            pen = DecomposingRecordingPen(glyphs)
+            glyphs[name].draw(pen)
+            out[chr(cp)] = sum(len(args) for op, args in pen.value if op in ("lineTo", "curveTo", "qCurveTo"))
+    return out
 
 
 def outline_points(path: str | os.PathLike, char: str, steps: int = 16) -> np.ndarray:

@@ -1,5 +1,5 @@
 """Cubic Bezier curves through a closed polyline within a tolerance: the contour is cut at its
-corners, and each piece between two corners is fitted by least squares with its end tangents
+corners and its x and y extremes (the points a type designer puts on-curve), and each piece between two corners is fitted by least squares with its end tangents
 fixed, split where it strays most and fitted again until it lies within the tolerance (the
 scheme of P. J. Schneider, "An algorithm for automatically fitting digitized curves", Graphics
 Gems, 1990). A piece's error is measured as an area: the mean distance of its points from the
@@ -17,6 +17,8 @@ NEWTON_STEPS = 4       # reparametrisations tried before a piece is split
 MAX_RATIO = 4.0        # the farthest any point may lie from its curve, in tolerances
 LOOP_RATIO = 1.25      # a curve longer than this many times its piece of edge (plus LOOP_SLACK) loops or overshoots
 LOOP_SLACK = 0.5       # contour units
+EXTREME_PX = 0.5       # how far an extreme must stand out (px) ...
+EXTREME_REACH_PX = 10.0  # ... beyond the points this far either side along the contour to be cut at
 LOOP_U = np.linspace(0.0, 1.0, 33)   # the parameters at which a curve's length is measured
 
 
@@ -88,27 +90,67 @@ def _length(p: np.ndarray) -> float:
     return float(np.sum(np.linalg.norm(np.diff(p, axis=0), axis=1)))
 
 
-def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float) -> list:
-    """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
-    each curve's points on average within tol of it at their parameters, none farther than
-    MAX_RATIO * tol; t0 the unit tangent at the start, t1 at the end pointing back into the curve."""
+def fit_one(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, steps: int = NEWTON_STEPS) -> tuple:
+    """(the cubic through p (n, 2) with end tangents t0, t1 (as fit_open takes them), its error in
+    tolerances as _worst measures it, the index of its farthest point): Schneider's least squares
+    with up to `steps` reparametrisations while they may still bring the error under 1."""
     if len(p) <= 2:
         d = float(np.linalg.norm(p[-1] - p[0])) / 3.0
-        return [np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]])]
+        return np.array([p[0], p[0] + d * t0, p[-1] + d * t1, p[-1]]), 0.0, 0
     u = _chord_params(p)
     c = _least_squares(p, u, t0, t1)
     err, i = _worst(c, p, u, tol)
-    if err <= 1.0:
-        return [c]
-    for _ in range(NEWTON_STEPS if err <= 4.0 else 0):
+    for _ in range(steps if err <= 4.0 else 0):
+        if err <= 1.0:
+            break
         u = _newton(c, p, u)
         c = _least_squares(p, u, t0, t1)
         err, i = _worst(c, p, u, tol)
-        if err <= 1.0:
-            return [c]
+    return c, err, i
+
+
+def _split_tangent(p: np.ndarray, i: int, reach: int) -> np.ndarray:
+    """The unit tangent at p[i] pointing back along p, from the chord between the points `reach`
+    either side (fewer near the ends)."""
+    k = max(1, min(reach, i, len(p) - 1 - i))
+    return _unit(p[i - k] - p[i + k])
+
+
+def _fit_split(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, reach: int) -> list:
+    """[(first index, last index, cubic)] through p: one cubic when it fits, else split at the
+    farthest point and each side fitted in turn."""
+    c, err, i = fit_one(p, t0, t1, tol)
+    if err <= 1.0:
+        return [(0, len(p) - 1, c)]
     i = min(max(i, 1), len(p) - 2)
-    mid = _unit(p[i - 1] - p[i + 1])          # the tangent at the split, pointing back along p
-    return fit_open(p[:i + 1], t0, mid, tol) + fit_open(p[i:], -mid, t1, tol)
+    mid = _split_tangent(p, i, reach)
+    right = _fit_split(p[i:], -mid, t1, tol, reach)
+    return _fit_split(p[:i + 1], t0, mid, tol, reach) + [(a + i, b + i, c) for a, b, c in right]
+
+
+def _merge(p: np.ndarray, pieces: list, tol: float) -> list:
+    """The pieces [(first, last, cubic)] with neighbours joined wherever one cubic from the first's
+    start tangent to the second's end tangent fits both their points: the greedy splits leave
+    joints a single curve would have spanned."""
+    k = 0
+    while k < len(pieces) - 1:
+        (a, _, c0), (_, b, c1) = pieces[k], pieces[k + 1]
+        t0, t1 = _unit(c0[1] - c0[0]), _unit(c1[2] - c1[3])
+        c, err, _ = fit_one(p[a:b + 1], t0, t1, tol)
+        if err <= 1.0 and np.linalg.norm(c0[1] - c0[0]) > 0 and np.linalg.norm(c1[2] - c1[3]) > 0:
+            pieces[k:k + 2] = [(a, b, c)]
+            k = max(k - 1, 0)
+        else:
+            k += 1
+    return pieces
+
+
+def fit_open(p: np.ndarray, t0: np.ndarray, t1: np.ndarray, tol: float, reach: int = 1) -> list:
+    """Cubics (each (4, 2)) joined end to end through the points p (n, 2) from p[0] to p[-1],
+    each curve's points on average within tol of it at their parameters, none farther than
+    MAX_RATIO * tol; t0 the unit tangent at the start, t1 at the end pointing back into the curve;
+    the tangents at the joints from the chord over `reach` points either side."""
+    return [c for _, _, c in _merge(p, _fit_split(p, t0, t1, tol, reach), tol)]
 
 
 def _turns(p: np.ndarray, reach: int) -> np.ndarray:
@@ -136,22 +178,63 @@ def _end_tangent(p: np.ndarray, reach: int) -> np.ndarray:
     return _unit(p[min(reach, len(p) - 1)] - p[0])
 
 
+def extremes(p: np.ndarray, spacing: float) -> list:
+    """[(index, axis)] of the closed polyline p's (points about `spacing` apart) extremes along x
+    (axis 0) and y (axis 1): points beyond every other within EXTREME_REACH_PX along the contour
+    either side, and by more than EXTREME_PX beyond the points that far (not a ripple)."""
+    reach = max(2, int(round(CORNER_REACH / max(spacing, 1e-9))))
+    far = max(reach + 1, int(round(EXTREME_REACH_PX / max(spacing, 1e-9))))
+    out = []
+    for axis in (0, 1):
+        for w in (p[:, axis], -p[:, axis]):
+            top = np.ones(len(p), dtype=bool)
+            for k in range(1, far + 1):
+                top &= (w >= np.roll(w, k)) & (w > np.roll(w, -k))
+            top &= w - np.maximum(np.roll(w, far), np.roll(w, -far)) > EXTREME_PX
+            out += [(int(i), axis) for i in np.flatnonzero(top)]
+    return out
+
+
+def _cuts(p: np.ndarray, spacing: float, reach: int) -> dict:
+    """{index: None at a corner, the axis at an extreme}: where fit_closed cuts p, extremes
+    within `reach` points of a cut already made left out."""
+    cuts: dict = {int(i): None for i in corners(p, spacing)}
+    for i, axis in extremes(p, spacing):
+        if all(min(abs(i - c), len(p) - abs(i - c)) > reach for c in cuts):
+            cuts[i] = axis
+    return cuts
+
+
+def _cut_tangent(piece: np.ndarray, axis, reach: int) -> np.ndarray:
+    """The unit tangent leaving piece[0] along the piece: the chord to a point `reach` ahead, or at
+    an extreme along `axis` the direction across that axis the chord leans to."""
+    t = _end_tangent(piece, reach)
+    if axis is None:
+        return t
+    out = np.zeros(2)
+    out[1 - axis] = 1.0 if t[1 - axis] >= 0 else -1.0
+    return out
+
+
 def fit_closed(p: np.ndarray, tol: float, spacing: float) -> list:
     """Cubics (each (4, 2)) around the closed polyline p (n, 2) (points about `spacing` apart,
-    the last not repeating the first), starting and ending at one point, each piece between
-    corners fitted within tol (as fit_open measures it); sharp at the corners, smooth elsewhere."""
+    the last not repeating the first), starting and ending at one point, cut at its corners and
+    its x and y extremes (there level or plumb), each piece fitted within tol (as fit_open
+    measures it); sharp at the corners, smooth elsewhere."""
     reach = max(2, int(round(CORNER_REACH / max(spacing, 1e-9))))
-    cut = corners(p, spacing)
-    if len(cut) == 0:
-        # no corner: start anywhere and make the start as smooth as the rest
+    cuts = _cuts(p, spacing, reach)
+    if not cuts:
+        # no corner nor extreme: start anywhere and make the start as smooth as the rest
         t = _unit(p[min(reach, len(p) - 1)] - p[-min(reach, len(p) - 1)])
         ring = np.concatenate([p, p[:1]])
-        return fit_open(ring, t, -t, tol)
-    ring = np.roll(p, -cut[0], axis=0)
-    ends = list(cut - cut[0]) + [len(p)]
+        return fit_open(ring, t, -t, tol, reach)
+    at = sorted(cuts)
+    ring = np.roll(p, -at[0], axis=0)
     ring = np.concatenate([ring, ring[:1]])
+    ends = [c - at[0] for c in at] + [len(p)]
+    kinds = [cuts[c] for c in at] + [cuts[at[0]]]
     out = []
-    for a, b in zip(ends[:-1], ends[1:]):
+    for a, b, ka, kb in zip(ends[:-1], ends[1:], kinds[:-1], kinds[1:]):
         piece = ring[a:b + 1]
-        out += fit_open(piece, _end_tangent(piece, reach), _end_tangent(piece[::-1], reach), tol)
+        out += fit_open(piece, _cut_tangent(piece, ka, reach), _cut_tangent(piece[::-1], kb, reach), tol, reach)
     return out

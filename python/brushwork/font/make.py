@@ -20,21 +20,25 @@ import numpy as np
 from ..pool import Progress, check_executor, parallel_map
 from ..files import write_atomic
 from ..writing import Style, check_size, text_paper
-from .build import FontInfo, check_font_path, write_font
+from .build import SPACES, FontInfo, check_font_path, make_font, write_font
+from .check import glyph_points
 from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
+from .variable import MASTERS, master_outlines, write_variable
+from .web import SLICE_CHARS, check_slice_chars, write_web
 
 CACHE_DIR = ".brushwork-font-cache"
-OUTLINE_FORMAT = 2          # the cache files' layout and the tracer's: a change makes new keys
+OUTLINE_FORMAT = 4          # the cache files' layout and the tracer's: a change makes new keys
 
 
 @dataclass
 class FontResult:
     path: str = ""
+    web: object = None                              # the WebFont written at --web, or None
     made: list = field(default_factory=list)        # characters whose outline this run made
     cached: list = field(default_factory=list)      # characters whose outline came from the cache
     failed: list = field(default_factory=list)      # (char, one-line reason): not in the font
     unknown: int = 0                                # of the failed, characters no source has
-    points: list = field(default_factory=list)      # points of each glyph in the font
+    points: list = field(default_factory=list)      # points of each glyph in the font (check.glyph_points)
     seconds: float = 0.0
     cpu_seconds: float = 0.0                        # the workers' CPU time on the glyphs made
     write_seconds: float = 0.0                      # assembling and writing the font
@@ -53,15 +57,17 @@ def check_tolerance(tol: float) -> float:
     return tol
 
 
-def _cache_key(style: Style, seed: int, size: int, tol: float) -> str:
+def _cache_key(style: Style, seed: int, size: int, tol: float, variable: bool = False) -> str:
     """What the cached outlines depend on: the style, seed, size and tolerance, the outline format,
-    and the brush (brushwork's version and every parameter of the style's preset), so that another
-    brush never reuses them."""
+    the weight masters of a variable font, and the brush (brushwork's version and every parameter
+    of the style's preset), so that another brush never reuses them."""
     from .. import BrushModel, __version__
 
     model = BrushModel.preset(style.preset)
     brush = {p["name"]: getattr(model, p["name"]) for p in model.parameters()}
-    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush], sort_keys=True, default=str)
+    masters = MASTERS if variable else None
+    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush, masters], sort_keys=True,
+                     default=str)
     return hashlib.sha1(doc.encode()).hexdigest()[:16]
 
 
@@ -70,16 +76,25 @@ def _glyph_file(folder: Path, char: str, glyph) -> Path:
     return folder / f"U+{ord(char):04X}-{digest}.json"
 
 
-def save_outline(path: Path, contours: list) -> None:
-    """The contours (each (m, 4, 2) font units) as JSON at path, atomically."""
-    doc = json.dumps([np.round(c, 3).tolist() for c in contours], separators=(",", ":"))
+def save_outline(path: Path, contours) -> None:
+    """The contours (each (m, 4, 2) font units), or a variable glyph's {wght: contours}, as JSON at
+    path, atomically."""
+    def rounded(cs: list) -> list:
+        return [np.round(c, 3).tolist() for c in cs]
+
+    tree = {str(w): rounded(cs) for w, cs in contours.items()} if isinstance(contours, dict) else rounded(contours)
+    doc = json.dumps(tree, separators=(",", ":"))
     write_atomic(path, lambda tmp: Path(tmp).write_text(doc, encoding="utf-8"), suffix=".json")
 
 
-def load_outline(path: Path) -> list | None:
-    """The contours cached at path, or None when the file is missing or not whole."""
+def load_outline(path: Path) -> list | dict | None:
+    """The contours (or {wght: contours}) cached at path, or None when the file is missing or not whole."""
+    def arrays(cs: list) -> list:
+        return [np.array(c, dtype=float).reshape(-1, 4, 2) for c in cs]
+
     try:
-        return [np.array(c, dtype=float).reshape(-1, 4, 2) for c in json.loads(path.read_text(encoding="utf-8"))]
+        tree = json.loads(path.read_text(encoding="utf-8"))
+        return {int(w): arrays(cs) for w, cs in tree.items()} if isinstance(tree, dict) else arrays(tree)
     except (OSError, ValueError):
         return None
 
@@ -88,9 +103,9 @@ def load_outline(path: Path) -> list | None:
 _JOB: dict = {}
 
 
-def _init_worker(style: str, size: int, seed: int, tol: float) -> None:
+def _init_worker(style: str, size: int, seed: int, tol: float, variable: bool = False) -> None:
     _JOB.clear()
-    _JOB.update(style=Style.load(style), em=Em(size), seed=seed, tol=tol)
+    _JOB.update(style=Style.load(style), em=Em(size), seed=seed, tol=tol, variable=variable)
 
 
 def _outline_one(task: tuple) -> tuple:
@@ -100,9 +115,12 @@ def _outline_one(task: tuple) -> tuple:
     t0 = time.process_time()
     try:
         em = _JOB["em"]
-        paper = text_paper([glyph], em.size, _JOB["style"], _JOB["seed"], paper=_JOB.get("paper"))
-        _JOB["paper"] = paper
-        save_outline(Path(out), outline_from_image(paper.image(), em, _JOB["tol"]))
+        if _JOB["variable"]:
+            save_outline(Path(out), master_outlines(glyph, em, _JOB["style"], _JOB["seed"]))
+        else:
+            paper = text_paper([glyph], em.size, _JOB["style"], _JOB["seed"], paper=_JOB.get("paper"))
+            _JOB["paper"] = paper
+            save_outline(Path(out), outline_from_image(paper.image(), em, _JOB["tol"]))
     except Exception as err:       # reported at the end with the character; the others go on
         _JOB.pop("paper", None)
         return char, time.process_time() - t0, f"{type(err).__name__}: {err}"
@@ -141,38 +159,78 @@ def _run(tasks: list, jobs: int, init: tuple, executor: str, result: FontResult,
             bar.close()
 
 
-def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", style: str = "kai", seed: int = 0,
+def _write(outlines: dict, order: list, path, web, slice_chars: int, info: FontInfo, result: FontResult,
+           variable: bool = False) -> None:
+    """The font at path (variable: a wght axis of the masters) and its web slices in the folder
+    web (either may be None)."""
+    t1 = time.perf_counter()
+    if path is not None:
+        (write_variable if variable else write_font)(outlines, path, info)
+    if web is not None:
+        text = "".join(c for c in order if c in outlines)
+        result.web = write_web(make_font(outlines, info), text, web, info.family, info.ps_name, slice_chars,
+                               first="".join(SPACES))
+    result.write_seconds = time.perf_counter() - t1
+    if path is not None and not os.fspath(path).lower().endswith(".ufo"):
+        stored = glyph_points(path)
+        result.points = [stored[c] for c in outlines]
+    else:
+        result.points = [point_count(outlines[c]) for c in outlines if not variable]
+
+
+def _cache_root(path, web) -> Path:
+    """The folder the cache lives in: the font's, else the web folder (made when missing)."""
+    if path is not None:
+        return Path(os.path.abspath(os.fspath(path))).parent
+    Path(web).mkdir(parents=True, exist_ok=True)
+    return Path(os.path.abspath(os.fspath(web)))
+
+
+def _check_args(path, web, slice_chars: int, size: int, tolerance: float, executor: str, jobs: int,
+                variable: bool = False) -> tuple:
+    """(size, tolerance, executor) checked, and the outputs and job count; ValueError in one line."""
+    if path is None and web is None:
+        raise ValueError("name a font to write (-o) or a folder for the web font (--web)")
+    if variable and (web is not None or path is None or os.fspath(path).lower().endswith(".ufo")):
+        raise ValueError("--variable writes one .otf, .ttf or .woff2 (-o), not a .ufo or --web slices")
+    if path is not None:
+        check_font_path(path)
+    check_slice_chars(slice_chars)
+    if int(jobs) < 1:
+        raise ValueError(f"--jobs {jobs}: expected >= 1")
+    return check_size(size), check_tolerance(tolerance), check_executor(executor)
+
+
+def build_font(glyphs, path: str | os.PathLike | None, *, source: str = "default", style: str = "kai", seed: int = 0,
                size: int = TRACE_SIZE, tolerance: float = FIT_TOL_PX, info: FontInfo | None = None, jobs: int = 1,
-               executor: str = "local", progress: bool = False) -> FontResult:
+               executor: str = "local", progress: bool = False, web: str | os.PathLike | None = None,
+               slice_chars: int = SLICE_CHARS, variable: bool = False) -> FontResult:
     """A font at path (.otf .ttf .woff2 .ufo) of glyphs: a string of characters (their strokes
     from `source`) or a {char: Glyph} dict, each outline traced from the brush's size x size
-    render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px.
+    render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px;
+    with `web` a folder, also the font cut in unicode-range WOFF2 slices of `slice_chars`
+    characters with their CSS and a demo page (web.py; path may then be None); with `variable`,
+    a variable font whose wght axis runs through the brush's weight masters (variable.py).
     Characters that fail are listed in the result and left out; the font is written when any
     glyph was made, atomically."""
     t0 = time.perf_counter()
     info = (info or FontInfo()).check()
-    check_font_path(path)
-    size, tolerance, executor = check_size(size), check_tolerance(tolerance), check_executor(executor)
-    if int(jobs) < 1:
-        raise ValueError(f"--jobs {jobs}: expected >= 1")
+    size, tolerance, executor = _check_args(path, web, slice_chars, size, tolerance, executor, jobs, variable)
     st = Style.load(style)
-    result = FontResult(path=os.fspath(path), source=source)
+    result = FontResult(path=os.fspath(path) if path is not None else "", source=source)
     loaded = _load_glyphs(glyphs, source, result)
-    folder = Path(os.path.abspath(os.fspath(path))).parent / CACHE_DIR / _cache_key(st, seed, size, tolerance)
+    folder = _cache_root(path, web) / CACHE_DIR / _cache_key(st, seed, size, tolerance, variable)
     folder.mkdir(parents=True, exist_ok=True)
     files = {c: _glyph_file(folder, c, g) for c, g in loaded.items()}
     todo = [c for c in loaded if load_outline(files[c]) is None]
     making = set(todo)
     result.cached = [c for c in loaded if c not in making]
-    _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance), executor,
-         result, progress)
+    _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance, variable),
+         executor, result, progress)
     done = set(result.made) | set(result.cached)
     outlines = {c: load_outline(files[c]) for c in loaded if c in done}
     if outlines and not result.interrupted:
-        t1 = time.perf_counter()
-        write_font(outlines, path, info)
-        result.write_seconds = time.perf_counter() - t1
-        result.points = [point_count(outlines[c]) for c in outlines]
+        _write(outlines, list(loaded), path, web, slice_chars, info, result, variable)
     result.seconds = time.perf_counter() - t0
     return result
 
@@ -185,7 +243,9 @@ def summary(result: FontResult, shown: int = 20) -> str:
     if result.interrupted:
         lines.append("interrupted: run the same command again to resume (finished glyphs are cached)")
     elif result.points:
-        lines.append(f"wrote {result.path}")
+        lines += [f"wrote {result.path}"] if result.path else []
+        if result.web is not None:
+            lines.append(f"wrote {len(result.web.slices)} WOFF2 slices, {result.web.css} and {result.web.page}")
     lines += [f"  failed {c} (U+{ord(c):04X}): {w}" if len(c) == 1 else f"  failed: {w}"
               for c, w in result.failed[:shown]]
     if len(result.failed) > shown:

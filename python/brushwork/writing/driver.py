@@ -317,7 +317,11 @@ class Writer:
             self.paper.deposit(self.brush)
             self.frames += 1
 
-    def write(self, glyph, origin_mm=(0.0, 0.0)) -> None:
+    def write(self, glyph, origin_mm=(0.0, 0.0), on_stroke=None) -> None:
+        """glyph's strokes in order with the em box's corner at origin_mm; on_stroke(k), when
+        given, is called once stroke k is written and the brush has left the paper (on its way
+        to the next stroke's start, or at the end): the font's weight masters take each stroke's
+        ink from the paper there."""
         st = self.style
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
@@ -328,7 +332,11 @@ class Writer:
             d0 = pts[min(1, len(pts) - 1)] - pts[0]
             h0 = math.atan2(d0[1], d0[0])
             self.travel(pts[0], h0)
+            if on_stroke is not None and k > 0:
+                on_stroke(k - 1)
             self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))
+        if on_stroke is not None and glyph.strokes:
+            on_stroke(len(glyph.strokes) - 1)
 
 
 def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
