@@ -235,3 +235,13 @@ def test_a_line_ends_where_its_chain_ends(style):
         along = (np.column_stack([cols, rows]) + 0.5 - end) @ u       # px past the end
         assert -2.0 <= along.max() <= 2.0, f"{style} at {heading} deg: ink ends {along.max():.1f} px from the end"
         assert along.min() >= -300.0 - 2.0, f"{style} at {heading} deg: ink starts {-300 - along.min():.1f} px early"
+
+
+def test_a_deeply_nested_outline_style_file_is_a_one_line_error(tmp_path):
+    from brushwork.outline3d.strokes import OutlineStyle
+
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100000, encoding="utf-8")
+    with pytest.raises(ValueError) as err:
+        OutlineStyle.load(str(path))
+    assert str(path) in str(err.value) and "nested too deeply" in str(err.value) and "\n" not in str(err.value)

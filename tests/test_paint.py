@@ -445,6 +445,7 @@ def test_a_token_guards_every_request_and_other_sites_are_refused():
     (["replay", "{tmp}/missing.json", "-o", "{tmp}/o.png"], "missing.json"),
     (["replay", "{tmp}/bad.json", "-o", "{tmp}/o.png"], "not a JSON log"),
     (["replay", "{tmp}/event.json", "-o", "{tmp}/o.png"], "event"),
+    (["replay", "{tmp}/deep.json", "-o", "{tmp}/o.png"], "nested too deeply"),
     (["replay", "{tmp}/event.json", "-o", "{tmp}/o.png", "--size", "9000"], "--size"),
     (["replay", "{tmp}/good.json", "-o", "{tmp}/o.xyz"], "o.xyz"),
     (["paint", "--host", "0.0.0.0"], "--token"),
@@ -455,6 +456,7 @@ def test_a_token_guards_every_request_and_other_sites_are_refused():
 ])
 def test_command_line_errors_are_one_line(tmp_path, capsys, argv, says):
     (tmp_path / "bad.json").write_text("{not json", encoding="utf-8")
+    (tmp_path / "deep.json").write_text("[" * 100000, encoding="utf-8")
     good = {"format": "brushwork-paint", "version": 1, "events": [],
             "settings": {"width_mm": 20, "height_mm": 20, "px_per_mm": 2}}
     (tmp_path / "good.json").write_text(json.dumps(good), encoding="utf-8")
