@@ -647,3 +647,16 @@ def test_sigterm_ends_the_server_while_it_works_and_logs_go_to_the_data_folder(t
     assert rc is not None, "the server ended after SIGTERM"
     logs = list(folder.glob("paint-*.json"))
     assert len(logs) == 1 and read_log(logs[0])["events"], "the painting's log is written on the way out"
+
+
+def test_the_load_benchmark_keeps_each_page_to_its_band():
+    """`bench paint --clients` at a tiny size: each page's painting holds ink in its band only, the
+    pings are answered through a flood and a re-render, an oversized re-render is refused, and
+    SIGTERM ends the server."""
+    from brushwork.paint.load import run_clients, table
+
+    r = run_clients(clients=3, samples=12, seconds=0.5, sizes=(8192, 320))
+    assert r["outside_px"] == [0, 0, 0] and min(r["inside_px"]) > 100, r
+    assert r["flood_ping_ms"]["n"] > 0 and r["rerender_ping_ms"]["n"] > 0
+    assert r["refused_rerender"]["status"] == 400 and r["rerender"]["status"] == 200
+    assert r["exit_code"] is not None and "SIGTERM" in table(r)

@@ -124,6 +124,26 @@ def bench_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--samples", type=int, default=300, help="pen samples of the measured stroke (default 300)")
     p.add_argument("--tufts", type=int, nargs="+", default=[1], metavar="K",
                    help="measure a brush of K tufts (the main one and its children), each K in turn (default 1)")
+    p.add_argument("--clients", type=int, default=None, metavar="N",
+                   help="instead: the server under load in a process of its own, N pages painting at once in "
+                        "their own bands, pings while one floods or asks for re-renders, SIGTERM's exit time")
+    p.add_argument("--flood-seconds", type=float, default=5.0, help="with --clients: the flood's length (default 5)")
+
+
+def _bench_clients(args: argparse.Namespace) -> int:
+    from ..bench import report
+    from .load import run_clients, table
+
+    if not 1 <= args.clients <= 16:
+        raise ValueError(f"--clients {args.clients}: expected 1..16 (the paintings a server holds at once)")
+    if not 0.5 <= args.flood_seconds <= 120:
+        raise ValueError(f"--flood-seconds {args.flood_seconds}: expected 0.5..120")
+    result = run_clients(args.clients, min(args.samples, 2000), args.flood_seconds,
+                         progress=lambda m: print(f"  {m}", file=sys.stderr))
+    print(table(result))
+    if args.json:
+        report.write_json(args.json, {"benchmark": "paint-clients", **result})
+    return 0
 
 
 def bench(args: argparse.Namespace) -> int:
@@ -135,6 +155,8 @@ def bench(args: argparse.Namespace) -> int:
         raise ValueError(f"--samples {args.samples}: expected 10..100000")
     if args.json:
         report.check_writable(args.json)
+    if args.clients is not None:
+        return _bench_clients(args)
     for k in args.tufts:
         check_change({"tufts": k})
     result = run(args.samples, progress=lambda m: print(f"  {m}", file=sys.stderr), tufts=args.tufts)
