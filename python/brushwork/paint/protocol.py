@@ -1,5 +1,5 @@
-"""The messages a page sends over the WebSocket, checked before any work (the protocol: README
-"Painting"): size, rate and work budgets, and every value's type and range. A refusal is a
+"""The messages a page sends over the WebSocket, checked before any work (the protocol:
+docs/paint.md): size, rate and work budgets, and every value's type and range. A refusal is a
 ValueError of one short line that never echoes a long input in full."""
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """The web app of `brushwork paint`: the page, each painting as PNG and log, and a WebSocket that
-takes pen samples and answers with the changed part of the paper (the protocol: README "Painting").
+takes pen samples and answers with the changed part of the paper (the protocol: docs/paint.md).
 
 Each WebSocket connection paints a painting of its own (`session.Session`: its brush, pen, undo
 and log, worked on a thread of its own); `GET /image.png` and `/log.json` name one with
