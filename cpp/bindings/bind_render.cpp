@@ -171,9 +171,9 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
         if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
         return stats;
       }, py::arg("brush"), py::arg("ink") = nullptr)
-      .def("end_stroke", &Paper::end_stroke)
-      .def("undo", &Paper::undo)
-      .def("clear", &Paper::clear)
+      .def("end_stroke", &Paper::end_stroke, py::call_guard<py::gil_scoped_release>())
+      .def("undo", &Paper::undo, py::call_guard<py::gil_scoped_release>())
+      .def("clear", &Paper::clear, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("width_px", &Paper::width_px)
       .def_property_readonly("height_px", &Paper::height_px)
       .def_property_readonly("px_per_mm", &Paper::px_per_mm)

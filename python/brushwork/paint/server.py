@@ -84,7 +84,7 @@ class Server:
         """The painting ?painting=ID names, or the only one (HTTP 404 / 400 otherwise)."""
         sid = request.query.get("painting")
         if sid is not None:
-            if sid not in self.sessions:
+            if sid not in self.sessions or self.sessions[sid].closed.is_set():
                 raise web.HTTPNotFound(text=f"painting = {show(sid)}: no such painting (it ends when its page closes)")
             return self.sessions[sid]
         if len(self.sessions) == 1:
