@@ -131,10 +131,11 @@ def check_cache(text: str, folder: Path) -> str | None:
 # --- outline style files ---
 def outline_style_text(rng: random.Random) -> str:
     """An outline style file: a bundled one with a field changed to an odd value, or cut short."""
-    from ..outline3d.strokes import STYLE_DIR
+    from .. import outline3d
 
-    names = sorted(p.name for p in STYLE_DIR.glob("*.json"))
-    doc = json.loads((STYLE_DIR / rng.choice(names)).read_text(encoding="utf-8"))
+    folder = Path(outline3d.__file__).with_name("styles")
+    names = sorted(p.name for p in folder.glob("*.json"))
+    doc = json.loads((folder / rng.choice(names)).read_text(encoding="utf-8"))
     if rng.random() < 0.8:
         doc[rng.choice(list(doc) + ["extra"])] = rng.choice(ODD_VALUES)
     text = json.dumps(doc)
@@ -143,7 +144,7 @@ def outline_style_text(rng: random.Random) -> str:
 
 def check_outline_style(text: str, folder: Path) -> str | None:
     """OutlineStyle.load (its public loader) ends in a style or a one-line ValueError."""
-    from ..outline3d.strokes import OutlineStyle
+    from ..outline3d import OutlineStyle
 
     path = folder / "outline-style.json"
     path.write_text(text, encoding="utf-8")
@@ -157,7 +158,7 @@ def _readers(folder: Path) -> dict:
     from ..glyphs import GlyphError, load_glyph
     from ..glyphs.medians import MediansFile
     from ..glyphs.mmah import read_char_file, read_graphics
-    from ..outline3d.strokes import OutlineStyle
+    from ..outline3d import OutlineStyle
     from ..paint.replay import read_log
     from ..writing import Style, StyleError
 

@@ -39,8 +39,10 @@ def png_bytes(rgb: np.ndarray) -> bytes:
 
 
 def message_events(painting: Painting, msg: dict) -> list:
-    """The painting events of a checked message."""
+    """The painting events of a checked message (a ping has none: the event loop answers it)."""
     kind = msg["type"]
+    if kind == "ping":
+        return []
     if kind == "samples":
         return [painting.sample_pose(*s) for s in msg["samples"]]
     if kind == "dip":
