@@ -17,21 +17,16 @@ import io
 import json
 import os
 import random
-import signal
 import tempfile
 import time
 from pathlib import Path
 from typing import Callable
 
-TIMEOUT_S = 20.0      # an input running longer than this is a hang
+from .fuzzcheck import ODD_VALUES, TIMEOUT_S, Hang, _load_only, _time_limit
+
 CHAR = "一"           # the character the glyph inputs draw
 
 Entry = Callable[[list], int]   # the command line's entry point: argv -> exit code (brushwork.cli.main)
-
-# numbers a broken input puts where a value belongs: edge values, wrong types, huge, tiny, non-finite
-ODD_VALUES = [0, -1, 1, 2.5, 1e300, -1e300, 1e-300, 1e6, -1e6, float("nan"), float("inf"), "abc", "", None, True,
-              [], {}, [1], [[0, 0]], 10 ** 30]
-
 
 def _odd(rng: random.Random):
     return rng.choice(ODD_VALUES)
@@ -150,24 +145,6 @@ def argv(rng: random.Random) -> list[str]:
 
 
 # --- running one input ---
-class Hang(Exception):
-    """An input ran past TIMEOUT_S."""
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: float):
-    def _ring(signum, frame):
-        raise Hang(f"ran past {seconds:g} s")
-
-    old = signal.signal(signal.SIGALRM, _ring)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
-
-
 def run_cli(entry: Entry, args: list[str], timeout_s: float = TIMEOUT_S) -> tuple[int, str, str]:
     """entry(args), the command line's entry point, in this process: (exit code, stdout, stderr);
     a Hang past timeout_s."""
@@ -268,19 +245,6 @@ def check_svg(d: str) -> str | None:
     from ..glyphs.svgpath import parse_svg_path
 
     return _load_only(lambda: parse_svg_path(d), GlyphError)
-
-
-def _load_only(load: Callable, allowed: type) -> str | None:
-    try:
-        with _time_limit(TIMEOUT_S):
-            load()
-    except allowed as exc:
-        return None if "\n" not in str(exc) else f"a multi-line error: {exc!s:.200}"
-    except Hang as exc:
-        return f"hang: {exc}"
-    except Exception as exc:  # noqa: BLE001 - a traceback is what the fuzz looks for
-        return f"traceback: {type(exc).__name__}: {exc}"
-    return None
 
 
 # --- the benchmark ---

@@ -10,7 +10,7 @@ import struct
 import warnings
 from pathlib import Path
 
-from .fuzz import ODD_VALUES, _load_only
+from .fuzzcheck import ODD_VALUES, _load_only
 
 MESH_SUFFIXES = (".obj", ".ply", ".stl", ".off")
 

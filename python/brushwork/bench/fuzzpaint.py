@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 import random
 
-from .fuzz import ODD_VALUES
+from .fuzzcheck import ODD_VALUES
 
 _TYPES = ["samples", "up", "undo", "clear", "dip", "settings", "ping", "paint", "", 3, None]
 _KEYS = ["x", "y", "pressure", "tiltX", "tiltY", "tilt", "azimuth", "twist"]
