@@ -266,6 +266,21 @@ def test_a_rebuild_makes_only_glyphs_missing_from_the_cache(tmp_path):
     assert len(again.made) == 1 and len(again.cached) == 1
 
 
+@pytest.mark.parametrize("content", ["[]", "[[]]", "NaN", "[[[[NaN, 0], [1, 1], [2, 2], [3, 3]]]]",
+                                     "[[[[1e300, 0], [1, 1], [2, 2], [3, 3]]]]", '[{"a": 1}]', "[[[1, 2, 3]]]",
+                                     "[" * 100000, "{not json", ""])
+def test_a_damaged_cache_entry_is_made_again(tmp_path, content):
+    """A cache file that is not an outline (empty, not finite, beyond a font's coordinates, the
+    wrong shape, nested too deeply, cut short) is made again, never drawn."""
+    first = build_font("十", tmp_path / "a.otf")
+    cached = sorted((tmp_path / CACHE_DIR).rglob("*.json"))
+    good = cached[0].read_text(encoding="utf-8")
+    cached[0].write_text(content, encoding="utf-8")
+    again = build_font("十", tmp_path / "a.otf")
+    assert first.made == ["十"] and again.made == ["十"] and not again.cached and not again.failed
+    assert cached[0].read_text(encoding="utf-8") == good, "the entry made again is the one the brush draws"
+
+
 def test_no_font_is_written_when_no_glyph_can_be_made(tmp_path):
     res = build_font("\U0002A6A5", tmp_path / "none.otf")
     assert res.failed and not res.points

@@ -82,3 +82,59 @@ def test_bench_fuzz_counts_per_kind(tmp_path, capsys):
     assert sum(k["tried"] for k in result["kinds"].values()) == 60
     assert all(k["failed"] == 0 for k in result["kinds"].values())
     assert "| kind" in capsys.readouterr().out
+
+
+@settings(FUZZ, max_examples=100)
+@given(rng=st.randoms(use_true_random=False))
+def test_mesh_bytes_load_or_fail_in_one_line_naming_the_file(folder, rng):
+    from brushwork.bench import fuzzfiles
+
+    suffix, data = fuzzfiles.mesh_bytes(rng)
+    assert fuzzfiles.check_mesh(suffix, data, folder) is None
+
+
+@settings(FUZZ, max_examples=200)
+@given(rng=st.randoms(use_true_random=False))
+def test_font_cache_entries_are_outlines_or_made_again(folder, rng):
+    from brushwork.bench import fuzzfiles
+
+    assert fuzzfiles.check_cache(fuzzfiles.cache_text(rng), folder) is None
+
+
+@settings(FUZZ, max_examples=60)
+@given(rng=st.randoms(use_true_random=False))
+def test_deeply_nested_json_is_one_line_wherever_json_is_read(folder, rng):
+    from brushwork.bench import fuzzfiles
+
+    reader, text = fuzzfiles.nested_json(rng)
+    assert fuzzfiles.check_nested(reader, text, folder) is None
+
+
+def test_every_json_reader_refuses_deep_nesting(folder):
+    """Each reader once, the nesting deepest."""
+    from brushwork.bench import fuzzfiles
+
+    for reader in fuzzfiles._readers(folder):
+        assert fuzzfiles.check_nested(reader, "[" * 200000, folder) is None, reader
+
+
+@settings(FUZZ, max_examples=300)
+@given(rng=st.randoms(use_true_random=False), apply=st.integers(0, 19))
+def test_websocket_messages_are_checked_or_refused_in_one_short_line(rng, apply):
+    pytest.importorskip("aiohttp")
+    from brushwork.bench import fuzzpaint
+
+    assert fuzzpaint.Painter().check(fuzzpaint.ws_message(rng), apply=apply == 0) is None
+
+
+@settings(FUZZ, max_examples=200)
+@given(rng=st.randoms(use_true_random=False))
+def test_http_queries_and_headers_are_answered_or_refused_in_one_short_line(rng):
+    pytest.importorskip("aiohttp")
+    from brushwork.bench import fuzzpaint
+
+    site = fuzzpaint.Site()
+    try:
+        assert site.check(*fuzzpaint.http_request(rng)) is None
+    finally:
+        site.close()

@@ -235,3 +235,49 @@ def test_a_line_ends_where_its_chain_ends(style):
         along = (np.column_stack([cols, rows]) + 0.5 - end) @ u       # px past the end
         assert -2.0 <= along.max() <= 2.0, f"{style} at {heading} deg: ink ends {along.max():.1f} px from the end"
         assert along.min() >= -300.0 - 2.0, f"{style} at {heading} deg: ink starts {-300 - along.min():.1f} px early"
+
+
+def test_a_deeply_nested_outline_style_file_is_a_one_line_error(tmp_path):
+    from brushwork.outline3d.strokes import OutlineStyle
+
+    path = tmp_path / "deep.json"
+    path.write_text("[" * 100000, encoding="utf-8")
+    with pytest.raises(ValueError) as err:
+        OutlineStyle.load(str(path))
+    assert str(path) in str(err.value) and "nested too deeply" in str(err.value) and "\n" not in str(err.value)
+
+
+def _ply(vertices, faces) -> str:
+    head = ("ply\nformat ascii 1.0\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\n"
+            "element face {}\nproperty list uchar int vertex_indices\nend_header\n").format(len(vertices), len(faces))
+    return head + "".join(f"{x} {y} {z}\n" for x, y, z in vertices) + "".join(f"3 {a} {b} {c}\n" for a, b, c in faces)
+
+
+@pytest.mark.parametrize("index", [99999, -5, 2 ** 31 - 1])
+def test_faces_naming_no_vertex_of_the_file_are_dropped_with_a_warning(tmp_path, capsys, index):
+    """A PLY face whose index is past the vertices, negative or huge is dropped and said, naming
+    the file; a mesh of only such faces is refused in one line naming it."""
+    box = trimesh.creation.box((1.0, 1.0, 1.0))
+    src = _write(tmp_path / "box.ply", _ply(box.vertices, box.faces.tolist() + [[0, 1, index]]))
+    out = tmp_path / "b.png"
+    assert main(["outline", src, "-o", str(out), "--size", "96"]) == 0
+    err = capsys.readouterr().err
+    assert f"{src}: 1 face(s) with vertex indices outside 0..7 dropped" in err and out.exists(), err
+    only = _write(tmp_path / "only.ply", _ply(box.vertices, [[0, 1, index], [index, 2, 3]]))
+    assert main(["outline", only, "-o", str(tmp_path / "o.png"), "--size", "96"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and only in err and "outside 0..7" in err, err
+
+
+@pytest.mark.parametrize("name, data", [
+    ("random.stl", bytes(range(256)) * 3),
+    ("short.stl", b"\x00" * 80 + (5).to_bytes(4, "little") + b"\x00" * 20),
+    ("ascii.stl", b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 nan\nendloop\nendfacet\nendsolid\n"),
+    ("garbage.off", b"OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 7000000000\n"),
+])
+def test_garbage_mesh_bytes_name_the_file_and_the_problem(tmp_path, capsys, name, data):
+    src = tmp_path / name
+    src.write_bytes(data)
+    assert main(["outline", str(src), "-o", str(tmp_path / "o.png"), "--size", "64"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and str(src) in err and "No module named" not in err, err

@@ -20,7 +20,7 @@ W, H = 320, 240          # px of the test paper (5 px/mm: 64 x 48 mm)
 
 
 def _paint(body, **app_kw):
-    """Run `await body(painter)` against a fresh app; its result."""
+    """Run `await body(client)` against a fresh app; its result."""
     async def main():
         app = server.make_app(size=(W, H), **app_kw)
         async with TestClient(TestServer(app, host="127.0.0.1")) as client:
@@ -29,15 +29,29 @@ def _paint(body, **app_kw):
 
 
 class Client:
+    """A page: its WebSocket, and HTTP requests naming its painting once it has one."""
+
     def __init__(self, client, app):
-        self.http, self.app, self.ws, self.seq = client, app, None, 0
+        self.http, self.app, self.ws, self.seq, self.painting = client, app, None, 0, None
+
+    def another(self):
+        """A second page on the same server."""
+        return Client(self.http, self.app)
 
     async def connect(self):
         self.ws = await self.http.ws_connect("/ws")
         hello = await self.ws.receive_json()
         assert hello["type"] == "hello" and (hello["width"], hello["height"]) == (W, H)
+        self.painting = hello["painting"]
         assert (await self.ws.receive_json())["type"] == "tile"
+        assert (await self.ws.receive_json())["type"] == "view"
         return self
+
+    def named(self, query=""):
+        """`query` with this page's painting added."""
+        if self.painting is None:
+            return query
+        return query + ("&" if query else "?") + f"painting={self.painting}"
 
     async def answer(self, seq):
         """Messages up to the tile answering `seq`: (tile, errors)."""
@@ -63,12 +77,12 @@ class Client:
         return await self.send({"type": "up"})
 
     async def image(self, query=""):
-        r = await self.http.get("/image.png" + query)
-        assert r.status == 200 and r.content_type == "image/png"
+        r = await self.http.get("/image.png" + self.named(query))
+        assert r.status == 200 and r.content_type == "image/png", await r.text()
         return cv2.imdecode(np.frombuffer(await r.read(), np.uint8), cv2.IMREAD_COLOR)
 
     async def log(self):
-        r = await self.http.get("/log.json")
+        r = await self.http.get("/log.json" + self.named())
         assert r.status == 200
         return await r.json()
 
@@ -224,21 +238,196 @@ def test_malformed_oversized_and_flooding_messages_are_refused_and_harm_nothing(
         await asyncio.sleep(1.0)          # (the rate's budget refills)
         tile, errors = await c.send({"type": "dip"})
         flood_errors = [e for e in errors if "too many" in e]
-        # a frame beyond aiohttp's limit closes that connection only; the painting stays
+        # a frame beyond aiohttp's limit closes that connection and its painting only
+        other = await c.another().connect()
+        await other.stroke(60, [0.6] * 10)
+        others = await other.image()
         await c.ws.send_str("x" * (server.MAX_FRAME + 10))
         closed = await c.ws.receive()
         while closed.type.name == "TEXT":
             closed = await c.ws.receive()
-        await c.connect()
-        tile, errors = await c.stroke(200, [0.6] * 10)
-        return prior, await c.image(), flood_errors, errors, closed
+        gone = (await c.http.get("/image.png" + c.named())).status
+        tile, errors = await other.stroke(200, [0.6] * 10)
+        return prior, others, await other.image(), flood_errors, errors, closed, gone
 
-    prior, after, flood_errors, errors, closed = _paint(body)
+    prior, others, after, flood_errors, errors, closed, gone = _paint(body)
+    assert _ink(prior).sum() > 100
     assert flood_errors, "a flood is answered with errors"
-    assert closed.type.name in ("CLOSE", "CLOSED", "CLOSING")
-    assert not errors, "the page still paints"
-    ink_prior, ink_after = _ink(prior), _ink(after)
+    assert closed.type.name in ("CLOSE", "CLOSED", "CLOSING") and gone == 404
+    assert not errors, "the other page still paints"
+    ink_prior, ink_after = _ink(others), _ink(after)
     assert np.abs(ink_after[:160] - ink_prior[:160]).max() < 0.02 and ink_after[180:].sum() > 100
+
+
+def _band(img, y, half=50):
+    """Ink of `img` outside rows y - half .. y + half."""
+    ink = _ink(img)
+    return ink[:max(y - half, 0)].sum() + ink[y + half:].sum()
+
+
+def test_each_page_paints_its_own_painting_at_the_same_time():
+    """Three pages drawing at once in their own bands: each painting holds its own strokes and no
+    other ink; one page's undo, clear and pen lift act on its painting alone."""
+    bands = (50, 120, 190)
+
+    async def body(c):
+        pages = [c] + [c.another() for _ in bands[1:]]
+        for p in pages:
+            await p.connect()
+        assert len({p.painting for p in pages}) == len(pages)
+        await asyncio.gather(*(p.stroke(y, [0.6] * 24) for p, y in zip(pages, bands)))
+        first = await pages[0].image()
+        await asyncio.gather(*(p.stroke(y + 8, [0.8] * 16, x0=60, x1=250, tilt=(0, 30)) for p, y in zip(pages, bands)))
+        await pages[0].send({"type": "undo"})
+        await pages[1].send({"type": "clear"})
+        unnamed = await c.http.get("/image.png")
+        unknown = await c.http.get("/image.png?painting=feedbeef")
+        return first, [await p.image() for p in pages], (unnamed.status, await unnamed.text()), unknown.status
+
+    first, images, unnamed, unknown = _paint(body)
+    assert _band(images[0], bands[0]) == 0.0 and _band(images[2], bands[2]) == 0.0, "no ink outside a page's band"
+    assert _ink(first).sum() > 100 and np.array_equal(images[0], first), "the first page's undo took its own stroke"
+    assert not np.array_equal(images[2][:, :, 0], first[:, :, 0]) and _ink(images[2]).sum() > 100
+    assert _ink(images[1]).max() == 0.0, "the second page's clear emptied its own painting only"
+    assert unnamed[0] == 400 and "painting" in unnamed[1] and unknown == 404
+
+
+def _zigzag(n, far):
+    """n samples alternating between (20, 20) and (20 + far, 20 + far) px at full pressure."""
+    return [{"x": 20 + far * (k % 2), "y": 20 + far * (k % 2), "pressure": 1.0} for k in range(n)]
+
+
+def test_pings_are_answered_while_another_page_floods_its_painter():
+    """The event loop does no painting: a ping sent after another page's heaviest admissible work
+    is answered before that work's tile; a message asking for more frames than the budget is
+    refused with an error, not queued."""
+    import time
+
+    async def next_of(ws, kind):
+        m = await ws.receive_json(timeout=60)
+        while m["type"] == "view":
+            m = await ws.receive_json(timeout=60)
+        assert m["type"] == kind, m
+        return m, time.monotonic()
+
+    async def body(c):
+        await c.connect()
+        other = await c.another().connect()
+        await c.ws.send_str(json.dumps({"type": "samples", "samples": _zigzag(250, 280)}))
+        refused, _ = await next_of(c.ws, "error")
+        await c.ws.send_str(json.dumps({"type": "samples", "seq": 1, "samples": _zigzag(140, 60)}))
+        await other.ws.send_str(json.dumps({"type": "ping", "seq": 5}))
+        (pong, t_pong), (tile, t_tile) = await asyncio.gather(next_of(other.ws, "pong"), next_of(c.ws, "tile"))
+        return refused, pong, tile, t_pong < t_tile
+
+    refused, pong, tile, pong_first = _paint(body)
+    assert "simulated frames" in refused["message"], refused
+    assert pong == {"type": "pong", "seq": 5} and tile["seq"] == 1 and "png" in tile
+    assert pong_first, "the ping is answered while the other painting works"
+
+
+def test_rerenders_keep_to_their_budget_and_stop_when_cancelled(monkeypatch):
+    import threading
+
+    from brushwork.paint.replay import Cancelled
+
+    async def body(c):
+        await c.connect()
+        await c.stroke(120, [0.6] * 10)
+        sizes = {}
+        for v in ("abc", "8192", "1e3", "-5", "9" * 400):
+            r = await c.http.get("/image.png" + c.named(f"?size={v}"))
+            sizes[v] = (r.status, await r.text())
+        monkeypatch.setattr(server, "RERENDER_MAX_FRAMES", 5)
+        big = await c.http.get("/image.png" + c.named("?size=320"))
+        return sizes, (big.status, await big.text()), await c.log()
+
+    sizes, big, log = _paint(body)
+    for v, (status, text) in sizes.items():
+        assert status == 400 and text.startswith("size = ") and len(text) < 200, (v, text)
+    assert "4096" in sizes["8192"][1] and "brushwork replay" in sizes["8192"][1]
+    assert big[0] == 413 and "frames" in big[1]
+    stop = threading.Event()
+    stop.set()
+    with pytest.raises(Cancelled):
+        replay(log, 640, cancel=stop)
+
+
+def test_the_host_is_checked_against_the_served_address():
+    """DNS rebinding: a page on another name that resolves to 127.0.0.1 is refused, on every path."""
+    async def body(c):
+        statuses = {}
+        for host in ("evil.example", "evil.example:80", "localhost:1", "127.0.0.1", "[::1]:80", "paint.example"):
+            statuses[host] = [(await c.http.get(p, headers={"Host": host})).status for p in ("/", "/log.json", "/ws")]
+        return statuses
+
+    got = _paint(body, allow_hosts=("paint.example",))
+    assert got["evil.example"] == got["evil.example:80"] == [403, 403, 403]
+    for host in ("localhost:1", "127.0.0.1", "[::1]:80", "paint.example"):
+        assert got[host][0] == 200 and 403 not in got[host], (host, got[host])
+
+
+def test_undo_keeps_a_bounded_number_of_bytes():
+    from brushwork.paint.painting import UNDO_BYTES, Painting
+
+    p = Painting({"width_mm": 204.8, "height_mm": 204.8, "px_per_mm": 5.0})   # 1024 x 1024 px: 16 MiB
+    full = p.paper.width_px * p.paper.height_px * 16
+    kept = []
+    for k in range(25):
+        for x in (40.0 + 4 * k, 60.0 + 4 * k):
+            p.apply(p.sample_pose(x, 500.0, 0.7, 10.0, 0.0, 0.0))
+        p.apply(["up"])
+        kept.append(p.image())
+        p.apply(["clear"])
+        assert p.undo_bytes() <= max(UNDO_BYTES, full)
+    clears = [kept for _, kept in p.undo_stack if kept.nbytes == full]
+    assert 2 <= len(clears) <= UNDO_BYTES // full < 25, "the newest clears are kept, as many as the bytes allow"
+    p.apply(["undo"])
+    assert np.array_equal(p.image(), kept[-1]) and _ink(kept[-1]).sum() > 100, "the last clear is undone"
+
+
+def test_log_names_never_collide(tmp_path):
+    """Logs made in the same second by two servers (or two paintings) get names of their own."""
+    from brushwork.paint.session import create_log
+
+    (tmp_path / "paint-20260101-000000-abcd.json").write_text("{}", encoding="utf-8")
+    names = [create_log(str(tmp_path), "20260101-000000", "abcd") for _ in range(3)]
+    assert len(set(names)) == 3 and (tmp_path / "paint-20260101-000000-abcd.json").read_text() == "{}"
+
+    async def body(c):
+        await c.connect()
+        other = await c.another().connect()
+        await c.stroke(60, [0.5] * 6)
+        await other.stroke(160, [0.5] * 6)
+    _paint(body, log_dir=str(tmp_path))
+    logs = sorted(tmp_path.glob("paint-2*.json"))
+    assert len(logs) == 6 and all(read_log(p)["events"] for p in logs if "abcd" not in p.name)
+
+
+def test_malformed_values_are_short_errors_never_tracebacks():
+    async def token(c):
+        return (await c.http.get("/image.png?token=%C3%A9t%C3%A9-s3cret")).status
+
+    async def body(c):
+        await c.connect()
+        texts = ['{"type": "samples", "samples": [{"x": 1' + "0" * 400 + ', "y": 1}]}',
+                 '{"type": "samples", "samples": [{"x": ' + "9" * 5000 + ', "y": 1}]}',
+                 '{"type": "dip", "ink": ' + "7" * 400 + '}',
+                 '{"type": "settings", "preset": "' + "p" * 5000 + '"}',
+                 '{"type": "' + "t" * 5000 + '"}',
+                 '{"type": "undo", "seq": ' + "1" * 400 + '}']
+        errors = []
+        for text in texts:
+            await c.ws.send_str(text)
+            m = await c.ws.receive_json(timeout=30)
+            errors.append(m)
+        tile, more = await c.stroke(120, [0.6] * 6)
+        return errors, tile, more
+
+    assert _paint(token, token="s3cret-token") == 403, "a token of any characters is compared, not a 500"
+    errors, tile, more = _paint(body)
+    assert all(m["type"] == "error" and len(m["message"]) < 160 for m in errors), errors
+    assert "png" in tile and not more, "the connection paints on"
 
 
 def test_a_token_guards_every_request_and_other_sites_are_refused():
@@ -256,6 +445,7 @@ def test_a_token_guards_every_request_and_other_sites_are_refused():
     (["replay", "{tmp}/missing.json", "-o", "{tmp}/o.png"], "missing.json"),
     (["replay", "{tmp}/bad.json", "-o", "{tmp}/o.png"], "not a JSON log"),
     (["replay", "{tmp}/event.json", "-o", "{tmp}/o.png"], "event"),
+    (["replay", "{tmp}/deep.json", "-o", "{tmp}/o.png"], "nested too deeply"),
     (["replay", "{tmp}/event.json", "-o", "{tmp}/o.png", "--size", "9000"], "--size"),
     (["replay", "{tmp}/good.json", "-o", "{tmp}/o.xyz"], "o.xyz"),
     (["paint", "--host", "0.0.0.0"], "--token"),
@@ -266,6 +456,7 @@ def test_a_token_guards_every_request_and_other_sites_are_refused():
 ])
 def test_command_line_errors_are_one_line(tmp_path, capsys, argv, says):
     (tmp_path / "bad.json").write_text("{not json", encoding="utf-8")
+    (tmp_path / "deep.json").write_text("[" * 100000, encoding="utf-8")
     good = {"format": "brushwork-paint", "version": 1, "events": [],
             "settings": {"width_mm": 20, "height_mm": 20, "px_per_mm": 2}}
     (tmp_path / "good.json").write_text(json.dumps(good), encoding="utf-8")
@@ -397,3 +588,75 @@ def test_the_pages_tuft_count_reaches_the_brush_and_the_log(page):
     doc = read_log(log)
     assert ["settings", {"tufts": 5}] in doc["events"]
     assert _ink(shown).sum() > 200 and np.array_equal(replay(doc).paper.image()[..., ::-1], shown)
+
+
+def test_a_port_in_use_is_one_line_and_leaves_no_log(tmp_path, capsys):
+    import socket
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        rc = cli.main(["paint", "--port", str(port), "--log-dir", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and err.startswith("brushwork: error:"), err
+    assert list(tmp_path.iterdir()) == [], "no log of a server that never served"
+
+
+def test_sigterm_ends_the_server_while_it_works_and_logs_go_to_the_data_folder(tmp_path):
+    """With no --log-dir the logs go to brushwork's folder in the user's data directory (printed);
+    SIGTERM while one page floods its painter and asks for a large re-render still ends the
+    server, each painting's log written."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    import aiohttp
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path), XDG_DATA_HOME=str(tmp_path / "data"))
+    proc = subprocess.Popen([sys.executable, "-m", "brushwork", "paint", "--port", "0", "--size", "640", "480"],
+                            env=env, stdout=subprocess.PIPE, text=True)
+    try:
+        line = proc.stdout.readline()
+        url, folder = line.split()[2], tmp_path / "data" / "brushwork" / "paint"
+        assert str(folder) in line and folder.is_dir(), line
+
+        async def work():
+            async with aiohttp.ClientSession() as http:
+                ws = await http.ws_connect(url + "ws")
+                hello = await ws.receive_json()
+                strokes = [{"type": "samples", "seq": k, "samples": _zigzag(140, 60)} for k in range(3)]
+                for msg in strokes:
+                    await ws.send_str(json.dumps(msg))
+                image = asyncio.ensure_future(http.get(f"{url}image.png?size=4096&painting={hello['painting']}"))
+                await asyncio.sleep(1.5)
+                t0 = time.monotonic()
+                proc.send_signal(signal.SIGTERM)
+                while proc.poll() is None and time.monotonic() - t0 < 15:
+                    await asyncio.sleep(0.05)
+                image.cancel()
+                return proc.poll()
+
+        rc = asyncio.run(work())
+    finally:
+        proc.kill()
+        proc.wait()
+        proc.stdout.close()
+    assert rc is not None, "the server ended after SIGTERM"
+    logs = list(folder.glob("paint-*.json"))
+    assert len(logs) == 1 and read_log(logs[0])["events"], "the painting's log is written on the way out"
+
+
+def test_the_load_benchmark_keeps_each_page_to_its_band():
+    """`bench paint --clients` at a tiny size: each page's painting holds ink in its band only, the
+    pings are answered through a flood and a re-render, an oversized re-render is refused, and
+    SIGTERM ends the server."""
+    from brushwork.paint.load import run_clients, table
+
+    r = run_clients(clients=3, samples=12, seconds=0.5, sizes=(8192, 320))
+    assert r["outside_px"] == [0, 0, 0] and min(r["inside_px"]) > 100, r
+    assert r["flood_ping_ms"]["n"] > 0 and r["rerender_ping_ms"]["n"] > 0
+    assert r["refused_rerender"]["status"] == 400 and r["rerender"]["status"] == 200
+    assert r["exit_code"] is not None and "SIGTERM" in table(r)

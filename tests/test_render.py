@@ -94,6 +94,38 @@ def test_software_rendering_can_be_forced():
     assert r.stdout.strip() in ("mesa-surfaceless", "default-display")
 
 
+def test_each_thread_renders_with_its_own_context():
+    """Threads each painting on a Paper of their own get the main thread's picture; a Paper used
+    from a thread other than its own is refused with a message saying where GL work belongs."""
+    import threading
+
+    def paint() -> np.ndarray:
+        paper = bw.Paper(40, 30, 4)
+        brush = bw.Brush("medium")
+        draw(paper, brush, straight_stroke(brush.model, (8.0, 15.0), length_mm=24.0))
+        return paper.image()
+
+    mine, theirs, errors = paint(), {}, {}
+
+    def work(k: int) -> None:
+        theirs[k] = paint()
+        try:
+            paper.ink()
+        except RuntimeError as err:
+            errors[k] = str(err)
+
+    paper = bw.Paper(10, 10, 4)
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(3)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert (mine < 128).sum() > 100
+    assert all(np.array_equal(theirs[k], mine) for k in range(3)), "every thread paints the same picture"
+    assert len(errors) == 3 and all("thread that made it" in e for e in errors.values()), errors
+    assert paper.ink().shape == (40, 40), "the main thread's paper still renders"
+
+
 # --- paper ---------------------------------------------------------------------------------------
 
 @pytest.mark.parametrize("args", [(0, 10, 4), (10, -1, 4), (10, 10, float("nan")), (10000, 10, 10)])

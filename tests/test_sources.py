@@ -141,3 +141,20 @@ def test_an_unknown_character_is_told_a_source_that_can_help(tmp_path):
     for spec in ("default", "glyphs:x+default"):          # the bundled ones are there already
         assert "graphics.txt" not in add_source_hint(spec) and "glyphs/README.md" in add_source_hint(spec)
     assert outlines_path().is_file() and set(load_source(f"mmah:{outlines_path()}")) == set("永和它凡明")
+
+
+@pytest.mark.parametrize("source, name, text", [
+    ("medians:{f}", "m.txt", "[" * 100000 + "\n"),
+    ("medians:{f}", "m.txt", '{"character": "永", "medians": ' + "[" * 100000 + "\n"),
+    ("mmah:{f}", "g.txt", '{"character": "永", "strokes": ' + "[" * 100000 + "\n"),
+    ("mmah:{d}", "永.json", "[" * 100000),
+])
+def test_deeply_nested_json_is_one_line_and_exit_2(tmp_path, capsys, source, name, text):
+    """JSON nested 100,000 deep, wherever a source reads JSON: one line naming the file, exit 2."""
+    from brushwork import cli
+
+    (tmp_path / name).write_text(text, encoding="utf-8")
+    spec = source.format(f=tmp_path / name, d=tmp_path)
+    rc = cli.main(["render", "永", "--source", spec, "-o", str(tmp_path / "o.png"), "--size", "64"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and str(tmp_path) in err, err

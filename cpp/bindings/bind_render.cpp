@@ -80,7 +80,8 @@ surface at each pixel centre, +inf where the mesh does not cover it. vertices (n
 
 void bind_render(py::module_& m) {
   py::class_<RenderContext, std::shared_ptr<RenderContext>>(m, "RenderContext", R"doc(
-The process's OpenGL context through EGL (shared by every Paper). BRUSHWORK_RENDER = auto | gpu |
+This thread's OpenGL context through EGL (shared by every Paper and BrushView the thread makes; each
+renders on the thread that made it). BRUSHWORK_RENDER = auto | gpu |
 software | disable and BRUSHWORK_EGL_DEVICE = index choose it. close() may be called twice.)doc")
       .def_static("acquire", &RenderContext::acquire)
       .def_property_readonly("info", [](const RenderContext& c) { return info_dict(c.info()); })
@@ -162,16 +163,17 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
   py::class_<Paper>(m, "Paper")
       .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),
            py::arg("height_mm"), py::arg("px_per_mm"), py::arg("scene") = SceneFeatures(),
-           py::arg("tile_px") = 0, py::keep_alive<1, 5>())
+           py::arg("tile_px") = 0, py::keep_alive<1, 5>(), py::call_guard<py::gil_scoped_release>())
       .def("deposit", [](Paper& p, Brush& brush, Ink* ink) {
-        // draw, then spend the brush's ink by what was drawn
+        // draw, then spend the brush's ink by what was drawn (other Python threads run meanwhile)
+        py::gil_scoped_release nogil;
         const DepositStats stats = p.deposit(brush, ink);
         if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
         return stats;
       }, py::arg("brush"), py::arg("ink") = nullptr)
-      .def("end_stroke", &Paper::end_stroke)
-      .def("undo", &Paper::undo)
-      .def("clear", &Paper::clear)
+      .def("end_stroke", &Paper::end_stroke, py::call_guard<py::gil_scoped_release>())
+      .def("undo", &Paper::undo, py::call_guard<py::gil_scoped_release>())
+      .def("clear", &Paper::clear, py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("width_px", &Paper::width_px)
       .def_property_readonly("height_px", &Paper::height_px)
       .def_property_readonly("px_per_mm", &Paper::px_per_mm)
@@ -185,12 +187,16 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
            "the render mesh (rings per segment, around) a brush of this model gets on this paper")
       .def("ink", [](Paper& p) {
         py::array_t<float> a({p.height_px(), p.width_px()});
-        p.read_ink(a.mutable_data());
+        float* out = a.mutable_data();
+        py::gil_scoped_release nogil;
+        p.read_ink(out);
         return a;
       }, "(H, W) float32 ink coverage in [0, 1], row 0 at the top of the paper")
       .def("rgba", [](Paper& p) {
         py::array_t<float> a({p.height_px(), p.width_px(), 4});
-        p.read_rgba(a.mutable_data());
+        float* out = a.mutable_data();
+        py::gil_scoped_release nogil;
+        p.read_rgba(out);
         return a;
       }, "(H, W, 4) float32 premultiplied RGBA, row 0 at the top")
       .def("_image", [](Paper& p, int bits, bool white, bool bgr) -> py::array {
@@ -198,7 +204,9 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
         const std::vector<py::ssize_t> shape{p.height_px(), p.width_px(), white ? 3 : 4};
         py::array a = bits == 8 ? py::array(py::dtype::of<std::uint8_t>(), shape)
                                 : py::array(py::dtype::of<std::uint16_t>(), shape);
-        p.read_image(bits, white, bgr, a.mutable_data());
+        void* out = a.mutable_data();
+        py::gil_scoped_release nogil;
+        p.read_image(bits, white, bgr, out);
         return a;
       }, py::arg("bits"), py::arg("white"), py::arg("bgr"),
       "(H, W, 3) ink over white or (H, W, 4) straight RGBA, uint8 or uint16, row 0 at the top")
@@ -206,7 +214,9 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
         if (a.ndim() != 3 || a.shape(0) != p.height_px() || a.shape(1) != p.width_px() || a.shape(2) != 4)
           throw std::invalid_argument("set_rgba: expected a (" + std::to_string(p.height_px()) + ", " +
                                       std::to_string(p.width_px()) + ", 4) array");
-        p.write_rgba(a.data());
+        const float* in = a.data();
+        py::gil_scoped_release nogil;
+        p.write_rgba(in);
       }, py::arg("rgba"))
       .def("set_map", [](Paper& p, const std::string& which, const FloatImage& a) {
         if (a.ndim() != 2) throw std::invalid_argument("set_map: expected a 2-D grey-scale array");
@@ -227,12 +237,14 @@ for orthographic (then ortho_height_mm is the height seen); light: direction tow
       .def("validate", &ViewOptions::validate);
 
   py::class_<BrushView>(m, "BrushView", "An offscreen image of the brush over the paper.")
-      .def(py::init<int, int>(), py::arg("width_px"), py::arg("height_px"))
+      .def(py::init<int, int>(), py::arg("width_px"), py::arg("height_px"), py::call_guard<py::gil_scoped_release>())
       .def_property_readonly("width_px", &BrushView::width_px)
       .def_property_readonly("height_px", &BrushView::height_px)
       .def("render", [](BrushView& v, Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o) {
         py::array_t<std::uint8_t> a({v.height_px(), v.width_px(), 4});
-        v.render(paper, brush, ink, o, a.mutable_data());
+        std::uint8_t* out = a.mutable_data();
+        py::gil_scoped_release nogil;
+        v.render(paper, brush, ink, o, out);
         return a;
       }, py::arg("paper"), py::arg("brush"), py::arg("ink") = nullptr, py::arg("options") = ViewOptions(),
       "(H, W, 4) uint8 RGBA, row 0 at the top");

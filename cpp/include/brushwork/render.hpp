@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "brushwork/brush.hpp"
@@ -35,7 +36,9 @@ struct RenderInfo {
   int max_texture_size = 0;               // px, GL_MAX_TEXTURE_SIZE
 };
 
-// One OpenGL 3.3 core context shared by every Paper and BrushView of the process.  Selection
+// One OpenGL 3.3 core context per thread, shared by every Paper and BrushView that thread makes
+// (an EGL context is current on one thread at a time: each renders on the thread that made it,
+// and make_current elsewhere throws saying so).  Selection
 // (Open3D's and MuJoCo's order): BRUSHWORK_RENDER = auto (default) | gpu | software | disable;
 // BRUSHWORK_EGL_DEVICE = index of the EGL device to use (range-checked).  auto tries the EGL
 // devices (taking the first that initialises), then Mesa's surfaceless platform, then the
@@ -62,6 +65,7 @@ class RenderContext {
   void open();
   void* display_ = nullptr;
   void* context_ = nullptr;
+  std::thread::id owner_;  // the thread it was made on, the one it is current on
   RenderInfo info_;
   std::map<std::string, unsigned> programs_;
 };

@@ -7,9 +7,11 @@
 
 #include <cstdint>
 #include <cstdlib>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include "brushwork/render.hpp"
 #include "gl_api.hpp"
@@ -89,6 +91,24 @@ std::string env(const char* name) {
   return v == nullptr ? std::string() : std::string(v);
 }
 
+// opening and closing contexts, from any thread (recursive: a failed open closes)
+std::recursive_mutex& context_mutex() {
+  static std::recursive_mutex mu;
+  return mu;
+}
+
+// open contexts per EGL display: a display is initialised once for every thread's context of a
+// process, so it is terminated only when its last context closes
+std::map<EGLDisplay, int>& display_users() {
+  static std::map<EGLDisplay, int> users;
+  return users;
+}
+
+// eglTerminate `dpy` unless another context still lives on it
+void release_display(Egl& e, EGLDisplay dpy) {
+  if (display_users()[dpy] == 0) e.Terminate(dpy);
+}
+
 // an OpenGL 3.3 core context on `dpy`, or null (the display is terminated on failure)
 EGLContext try_context(Egl& e, EGLDisplay dpy, std::string& why) {
   EGLint major = 0, minor = 0;
@@ -98,7 +118,7 @@ EGLContext try_context(Egl& e, EGLDisplay dpy, std::string& why) {
   }
   if (e.BindAPI(EGL_OPENGL_API) != EGL_TRUE) {
     why = "no desktop OpenGL API on this display";
-    e.Terminate(dpy);
+    release_display(e, dpy);
     return EGL_NO_CONTEXT;
   }
   // no surface at all: we render into framebuffer objects (EGL_KHR_surfaceless_context)
@@ -112,33 +132,34 @@ EGLContext try_context(Egl& e, EGLDisplay dpy, std::string& why) {
   EGLContext ctx = e.CreateContext(dpy, config, EGL_NO_CONTEXT, ctx_attribs);
   if (ctx == EGL_NO_CONTEXT) {
     why = "no OpenGL 3.3 core context";
-    e.Terminate(dpy);
+    release_display(e, dpy);
     return EGL_NO_CONTEXT;
   }
   if (e.MakeCurrent(dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, ctx) != EGL_TRUE) {
     why = "surfaceless eglMakeCurrent failed";
     e.DestroyContext(dpy, ctx);
-    e.Terminate(dpy);
+    release_display(e, dpy);
     return EGL_NO_CONTEXT;
   }
   return ctx;
 }
 
-std::weak_ptr<RenderContext>& shared_slot() {
-  static std::weak_ptr<RenderContext> slot;
+// this thread's context: an EGL context is current on one thread at a time, so each thread that
+// renders gets its own (shaders compiled once per thread)
+std::weak_ptr<RenderContext>& thread_slot() {
+  thread_local std::weak_ptr<RenderContext> slot;
   return slot;
 }
 
 }  // namespace
 
 std::shared_ptr<RenderContext> RenderContext::acquire() {
-  static std::mutex mu;
-  std::lock_guard<std::mutex> lock(mu);
-  auto ctx = shared_slot().lock();
+  std::lock_guard<std::recursive_mutex> lock(context_mutex());
+  auto ctx = thread_slot().lock();
   if (ctx && !ctx->closed()) return ctx;
   ctx = std::shared_ptr<RenderContext>(new RenderContext());
   ctx->open();
-  shared_slot() = ctx;
+  thread_slot() = ctx;
   return ctx;
 }
 
@@ -275,6 +296,8 @@ void RenderContext::open() {
 
   display_ = o.dpy;
   context_ = o.ctx;
+  owner_ = std::this_thread::get_id();
+  display_users()[display_] += 1;
   if (const char* missing = gl::load(reinterpret_cast<gl::ProcGetter>(e.GetProcAddress))) {
     close();
     throw std::runtime_error(std::string("OpenGL entry point ") + missing + " is missing: " + kInstallHint);
@@ -298,17 +321,23 @@ unsigned RenderContext::program(const char* vertex, const char* fragment,
 
 void RenderContext::make_current() const {
   if (closed()) throw std::runtime_error("the render context is closed");
+  if (std::this_thread::get_id() != owner_)
+    throw std::runtime_error("a Paper or BrushView renders on the thread that made it (each thread "
+                             "has its own GL context): make one on this thread");
   Egl& e = egl();
   if (e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) != EGL_TRUE)
     throw std::runtime_error("eglMakeCurrent failed");
 }
 
 void RenderContext::close() {
+  std::lock_guard<std::recursive_mutex> lock(context_mutex());
   if (display_ == nullptr) return;
   Egl& e = egl();
-  e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  // (released only on its own thread: elsewhere it is not current, and the call would fail)
+  if (std::this_thread::get_id() == owner_) e.MakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
   if (context_ != nullptr) e.DestroyContext(display_, context_);
-  e.Terminate(display_);
+  display_users()[display_] -= 1;
+  release_display(e, display_);
   programs_.clear();  // they died with the context
   display_ = nullptr;
   context_ = nullptr;

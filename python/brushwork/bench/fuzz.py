@@ -1,5 +1,6 @@
 """Fuzzing the inputs a user hands brushwork: glyph files, style files, SVG path data and command
-lines, valid and broken. Every input must end in success or a one-line error with exit code 2:
+lines, valid and broken; meshes, font cache entries, outline style files and deeply nested JSON
+(bench/fuzzfiles.py); `brushwork paint`'s WebSocket messages and HTTP requests (bench/fuzzpaint.py). Every input must end in success or a one-line error with exit code 2:
 never a traceback, another exit code, a hang past a time limit or a partial output file.
 
 The generators take a `random.Random` and return one input; the test suite drives them through
@@ -16,21 +17,16 @@ import io
 import json
 import os
 import random
-import signal
 import tempfile
 import time
 from pathlib import Path
 from typing import Callable
 
-TIMEOUT_S = 20.0      # an input running longer than this is a hang
+from .fuzzcheck import ODD_VALUES, TIMEOUT_S, Hang, _load_only, _time_limit
+
 CHAR = "一"           # the character the glyph inputs draw
 
 Entry = Callable[[list], int]   # the command line's entry point: argv -> exit code (brushwork.cli.main)
-
-# numbers a broken input puts where a value belongs: edge values, wrong types, huge, tiny, non-finite
-ODD_VALUES = [0, -1, 1, 2.5, 1e300, -1e300, 1e-300, 1e6, -1e6, float("nan"), float("inf"), "abc", "", None, True,
-              [], {}, [1], [[0, 0]], 10 ** 30]
-
 
 def _odd(rng: random.Random):
     return rng.choice(ODD_VALUES)
@@ -149,24 +145,6 @@ def argv(rng: random.Random) -> list[str]:
 
 
 # --- running one input ---
-class Hang(Exception):
-    """An input ran past TIMEOUT_S."""
-
-
-@contextlib.contextmanager
-def _time_limit(seconds: float):
-    def _ring(signum, frame):
-        raise Hang(f"ran past {seconds:g} s")
-
-    old = signal.signal(signal.SIGALRM, _ring)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
-
-
 def run_cli(entry: Entry, args: list[str], timeout_s: float = TIMEOUT_S) -> tuple[int, str, str]:
     """entry(args), the command line's entry point, in this process: (exit code, stdout, stderr);
     a Hang past timeout_s."""
@@ -269,25 +247,59 @@ def check_svg(d: str) -> str | None:
     return _load_only(lambda: parse_svg_path(d), GlyphError)
 
 
-def _load_only(load: Callable, allowed: type) -> str | None:
-    try:
-        with _time_limit(TIMEOUT_S):
-            load()
-    except allowed as exc:
-        return None if "\n" not in str(exc) else f"a multi-line error: {exc!s:.200}"
-    except Hang as exc:
-        return f"hang: {exc}"
-    except Exception as exc:  # noqa: BLE001 - a traceback is what the fuzz looks for
-        return f"traceback: {type(exc).__name__}: {exc}"
-    return None
-
-
 # --- the benchmark ---
-KINDS = ("glyph", "style", "svg", "argv")
+KINDS = ("glyph", "style", "svg", "mesh", "font cache", "outline style", "nested json", "websocket", "http",
+         "argv")
 
 
-def _one(entry: Entry, kind: str, rng: random.Random, folder: Path, render: bool) -> tuple[object, str | None]:
+class Servers:
+    """The paint server's checks and app, made on first use (None without aiohttp: those kinds
+    are skipped)."""
+
+    def __init__(self):
+        self.painter = self.site = None
+        try:
+            import aiohttp  # noqa: F401
+            self.ok = True
+        except ImportError:
+            self.ok = False
+
+    def close(self) -> None:
+        if self.site is not None:
+            self.site.close()
+
+
+def _more(kind: str, rng: random.Random, folder: Path, render: bool, servers: Servers) -> tuple[object, str | None]:
+    """(the input, why it failed or None) for the kinds of fuzzfiles and fuzzpaint."""
+    from . import fuzzfiles, fuzzpaint
+
+    _empty(folder)
+    if kind == "mesh":
+        suffix, data = fuzzfiles.mesh_bytes(rng)
+        return data, fuzzfiles.check_mesh(suffix, data, folder)
+    if kind == "font cache":
+        text = fuzzfiles.cache_text(rng)
+        return text, fuzzfiles.check_cache(text, folder)
+    if kind == "outline style":
+        text = fuzzfiles.outline_style_text(rng)
+        return text, fuzzfiles.check_outline_style(text, folder)
+    if kind == "nested json":
+        reader, text = fuzzfiles.nested_json(rng)
+        return f"{reader}: {text[:60]}", fuzzfiles.check_nested(reader, text, folder)
+    if kind == "websocket":
+        servers.painter = servers.painter or fuzzpaint.Painter()
+        text = fuzzpaint.ws_message(rng)
+        return text, servers.painter.check(text, apply=render)
+    servers.site = servers.site or fuzzpaint.Site()
+    path, headers = fuzzpaint.http_request(rng)
+    return [path, headers], servers.site.check(path, headers)
+
+
+def _one(entry: Entry, kind: str, rng: random.Random, folder: Path, render: bool,
+         servers: Servers) -> tuple[object, str | None]:
     """(the input, why it failed or None) for one input of `kind`."""
+    if kind not in ("glyph", "style", "svg", "argv"):
+        return _more(kind, rng, folder, render, servers)
     if kind == "glyph":
         text = glyph_json(rng)
         return text, check_glyph(entry, text, folder, render)
@@ -307,16 +319,21 @@ def run(entry: Entry, n: int, seed: int = 0, render_every: int = 500, argv_share
     through the command line's entry point `entry` (argv -> exit code); per kind: tried, failed,
     the first failing input and why."""
     rng = random.Random(seed)
-    stats = {k: {"tried": 0, "failed": 0, "first_failure": None, "why": None} for k in KINDS}
-    weights = [(1 - argv_share) / 3] * 3 + [argv_share]
+    servers = Servers()
+    kinds = [k for k in KINDS if servers.ok or k not in ("websocket", "http")]
+    stats = {k: {"tried": 0, "failed": 0, "first_failure": None, "why": None} for k in kinds}
+    weights = [(1 - argv_share) / (len(kinds) - 1)] * (len(kinds) - 1) + [argv_share]
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="brushwork-fuzz-") as tmp:
-        for i in range(n):
-            kind = rng.choices(KINDS, weights)[0]
-            data, why = _one(entry, kind, rng, Path(tmp), render=stats[kind]["tried"] % render_every == 0)
-            _count(stats[kind], data, why)
-            if progress and (i + 1) % 10000 == 0:
-                progress(f"{i + 1}/{n} inputs, {time.perf_counter() - t0:.0f} s")
+        try:
+            for i in range(n):
+                kind = rng.choices(kinds, weights)[0]
+                data, why = _one(entry, kind, rng, Path(tmp), stats[kind]["tried"] % render_every == 0, servers)
+                _count(stats[kind], data, why)
+                if progress and (i + 1) % 10000 == 0:
+                    progress(f"{i + 1}/{n} inputs, {time.perf_counter() - t0:.0f} s")
+        finally:
+            servers.close()
     return {"n": n, "seed": seed, "seconds": time.perf_counter() - t0, "kinds": stats}
 
 

@@ -27,6 +27,7 @@ from .variable import MASTERS, master_outlines, write_variable
 from .web import SLICE_CHARS, check_slice_chars, write_web
 
 CACHE_DIR = ".brushwork-font-cache"
+MAX_UNITS = 32767           # font units: every coordinate of a font fits a signed 16-bit integer
 OUTLINE_FORMAT = 4          # the cache files' layout and the tracer's: a change makes new keys
 
 
@@ -88,15 +89,29 @@ def save_outline(path: Path, contours) -> None:
 
 
 def load_outline(path: Path) -> list | dict | None:
-    """The contours (or {wght: contours}) cached at path, or None when the file is missing or not whole."""
-    def arrays(cs: list) -> list:
-        return [np.array(c, dtype=float).reshape(-1, 4, 2) for c in cs]
-
+    """The contours (or {wght: contours}) cached at path, or None when the file is missing, not
+    whole or not an outline (then the glyph is made again)."""
     try:
         tree = json.loads(path.read_text(encoding="utf-8"))
-        return {int(w): arrays(cs) for w, cs in tree.items()} if isinstance(tree, dict) else arrays(tree)
-    except (OSError, ValueError):
+        if isinstance(tree, dict):
+            if not tree:
+                raise ValueError("no masters")
+            return {int(w): check_outline(cs) for w, cs in tree.items()}
+        return check_outline(tree)
+    except (OSError, ValueError, TypeError, RecursionError):
         return None
+
+
+def check_outline(doc) -> list:
+    """A cache file's document as contours, each (m, 4, 2) font units: a non-empty list of
+    non-empty contours of cubic segments with finite coordinates a font can hold (ValueError)."""
+    if not isinstance(doc, list) or not doc:
+        raise ValueError("no contours")
+    contours = [np.array(c, dtype=float).reshape(-1, 4, 2) for c in doc]
+    for c in contours:
+        if len(c) == 0 or not np.isfinite(c).all() or np.abs(c).max() > MAX_UNITS:
+            raise ValueError("a contour empty, not finite or beyond a font's coordinates")
+    return contours
 
 
 # --- the worker side: one process (or Ray worker) per job, each keeping its paper ---
@@ -227,12 +242,23 @@ def build_font(glyphs, path: str | os.PathLike | None, *, source: str = "default
     result.cached = [c for c in loaded if c not in making]
     _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance, variable),
          executor, result, progress)
-    done = set(result.made) | set(result.cached)
-    outlines = {c: load_outline(files[c]) for c in loaded if c in done}
+    outlines = _outlines(files, loaded, result)
     if outlines and not result.interrupted:
         _write(outlines, list(loaded), path, web, slice_chars, info, result, variable)
     result.seconds = time.perf_counter() - t0
     return result
+
+
+def _outlines(files: dict, loaded: dict, result: FontResult) -> dict:
+    """The outlines made or cached, read back; one that is not an outline (an empty trace) is
+    listed as failed and left out."""
+    done = set(result.made) | set(result.cached)
+    outlines = {c: load_outline(files[c]) for c in loaded if c in done}
+    for c in [c for c, o in outlines.items() if o is None]:
+        del outlines[c]
+        result.made, result.cached = [m for m in result.made if m != c], [m for m in result.cached if m != c]
+        result.failed.append((c, f"{files[c]}: its outline is empty or not an outline"))
+    return outlines
 
 
 def summary(result: FontResult, shown: int = 20) -> str:

@@ -67,7 +67,7 @@ class MediansFile:
         m = _HEAD.match(line)
         try:
             char = m.group(1).decode("utf-8") if m else json.loads(line).get("character")
-        except (UnicodeDecodeError, ValueError, AttributeError):
+        except (UnicodeDecodeError, ValueError, AttributeError, RecursionError):
             return None
         return char if isinstance(char, str) and len(char) == 1 else None
 
@@ -86,6 +86,8 @@ class MediansFile:
             doc = json.loads(self.data[a:b])
         except (json.JSONDecodeError, UnicodeDecodeError) as e:
             raise GlyphError(where, f"malformed JSON: {e}") from None
+        except RecursionError:
+            raise GlyphError(where, "malformed JSON: nested too deeply") from None
         glyph = glyph_from_mmah(doc, None, where, outlines=False)
         glyph.source = f"medians:{self.path}"
         return glyph

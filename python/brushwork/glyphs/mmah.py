@@ -72,6 +72,9 @@ def read_graphics(path: Path, wanted: set[str] | None) -> Iterator[tuple[str | N
         except json.JSONDecodeError as e:
             yield None, GlyphError(where, f"malformed JSON: {e.msg} at column {e.colno}")
             continue
+        except RecursionError:
+            yield None, GlyphError(where, "malformed JSON: nested too deeply")
+            continue
         char = doc.get("character") if isinstance(doc, dict) else None
         if wanted is not None and char not in wanted:
             continue
@@ -91,6 +94,8 @@ def read_char_file(path: Path, char: str) -> Glyph:
         raise GlyphError(path, f"cannot read: {e}") from None
     except json.JSONDecodeError as e:
         raise GlyphError(path, f"malformed JSON: {e.msg} at line {e.lineno} column {e.colno}") from None
+    except RecursionError:
+        raise GlyphError(path, "malformed JSON: nested too deeply") from None
     glyph = glyph_from_mmah(doc, char, str(path))
     glyph.source = f"mmah:{path}"
     return glyph

@@ -88,7 +88,10 @@ def run(args: argparse.Namespace) -> int:
             check_writable(path)
     t0 = time.perf_counter()
     vertices, faces, warnings = load_mesh(args.mesh)
-    surface = prepare(vertices, faces)
+    try:
+        surface = prepare(vertices, faces)
+    except ValueError as err:
+        raise ValueError(f"{args.mesh}: {err}") from None
     load_s = time.perf_counter() - t0
     for note in warnings + surface.notes:
         print(f"brushwork: warning: {args.mesh}: {note}", file=sys.stderr)

@@ -146,7 +146,10 @@ def prepare(vertices, faces) -> Surface:
     v = np.asarray(vertices, dtype=float).reshape(-1, 3)
     f = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
     notes: list = []
-    f = f[np.all((f >= 0) & (f < len(v)), axis=1)]
+    inside = np.all((f >= 0) & (f < len(v)), axis=1)
+    if not inside.all():
+        notes.append(f"{int((~inside).sum())} face(s) with vertex indices outside 0..{len(v) - 1} dropped")
+    f = f[inside]
     finite = np.all(np.isfinite(v), axis=1)
     if not finite.all():
         notes.append(f"{int((~finite).sum())} non-finite vertex(es) dropped with their faces")

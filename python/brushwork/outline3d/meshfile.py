@@ -114,4 +114,24 @@ def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
         log.removeHandler(catch)
     if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise ValueError(f"{path}: no triangles in the file")
-    return vertices, faces, _missing_files(path) + notes + catch.messages
+    vertices, faces, dropped = checked_faces(path, vertices, faces)
+    return vertices, faces, _missing_files(path) + notes + dropped + catch.messages
+
+
+def checked_faces(path: str, vertices: np.ndarray, faces: np.ndarray) -> tuple[np.ndarray, np.ndarray, list]:
+    """The faces whose three indices name vertices of the file (0..n-1) with finite coordinates,
+    and a warning for each kind dropped; ValueError naming the file when none is left."""
+    vertices = np.asarray(vertices, dtype=float).reshape(-1, 3)
+    faces = np.asarray(faces)
+    n, notes = len(vertices), []
+    inside = np.all((faces >= 0) & (faces < n), axis=1) if faces.dtype.kind in "iu" else np.zeros(len(faces), bool)
+    if not inside.all():
+        notes.append(f"{int((~inside).sum())} face(s) with vertex indices outside 0..{n - 1} dropped")
+    faces = faces[inside].astype(np.int64)
+    finite = np.isfinite(vertices).all(axis=1)[faces].all(axis=1)
+    if not finite.all():
+        notes.append(f"{int((~finite).sum())} face(s) with non-finite vertices dropped")
+    faces = faces[finite]
+    if len(faces) == 0:
+        raise ValueError(f"{path}: no triangle whose vertices are in the file and finite ({'; '.join(notes)})")
+    return vertices, faces, notes

@@ -72,6 +72,8 @@ class OutlineStyle:
             style = cls(**data)
         except (json.JSONDecodeError, TypeError, UnicodeDecodeError) as err:
             raise ValueError(f"outline style {path}: {err}") from None
+        except RecursionError:
+            raise ValueError(f"outline style {path}: malformed JSON, nested too deeply") from None
         style.validate()
         return style
 

@@ -40,7 +40,7 @@ async def _answer(ws, seq: int) -> dict:
 async def _measure(n: int, progress, tufts: int = 1) -> dict:
     from aiohttp.test_utils import TestClient, TestServer
 
-    from .server import PAINTER, make_app
+    from .server import SERVER, make_app
 
     app = make_app(tufts=tufts)
     async with TestClient(TestServer(app, host="127.0.0.1")) as client:
@@ -55,7 +55,7 @@ async def _measure(n: int, progress, tufts: int = 1) -> dict:
         for seq, kind in enumerate(("up", "undo"), start=n + 21):
             await ws.send_str(json.dumps({"type": kind, "seq": seq}))
             await _answer(ws, seq)
-        painting = app[PAINTER].painting
+        painting = next(iter(app[SERVER].sessions.values())).painting
         painting.frames, painting.sim_s, painting.split_frames = 0, 0.0, 0
         progress(f"{n} samples, one at a time, on a {hello['width']} x {hello['height']} px paper")
         for seq, s in enumerate(stroke(n, hello["width"], hello["height"])):

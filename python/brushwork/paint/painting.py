@@ -8,6 +8,7 @@ applied to a `Painting` of any resolution paint the same picture (`replay`).
 """
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -23,6 +24,8 @@ STEP_MM = 1.0        # mm: a longer move between samples is simulated in frames 
 SUBSTEPS_MAX = 32    # frames one sample is divided into at most
 LIFT_FRAMES = 6      # frames the brush rises at most when the pen leaves the paper
 UNDO_DEPTH = 20      # pen strokes undo remembers
+UNDO_BYTES = 64 * 2 ** 20  # bytes of paper undo keeps at the painted resolution (at least one
+                           # whole paper, so that a clear can be undone)
 SCENE_FLAGS = ("split_map", "dry_map", "grain", "depletion")
 LOG_FORMAT = "brushwork-paint"
 MAX_PX = 8192        # px: largest side of a paper
@@ -31,9 +34,20 @@ MAX_TUFTS = 9        # tufts of a brush: the main one and up to 8 children (Brus
 Rect = tuple  # (x0, y0, x1, y1) px, y up, exclusive
 
 
+def show(value, limit: int = 24) -> str:
+    """`value` for an error message: its repr, cut to `limit` characters (a huge input is never
+    echoed in full; an integer too long to print is named by its size)."""
+    try:
+        text = repr(value)
+    except ValueError:                    # (an int beyond Python's digit limit for str)
+        return f"an integer of {value.bit_length()} bits"
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
 def _number(value, name: str, lo: float, hi: float) -> float:
+    # (compared before conversion: an integer too large for a float is out of range, NaN never in)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not lo <= value <= hi:
-        raise ValueError(f"{name} = {value!r}: expected a number in {lo:g}..{hi:g}")
+        raise ValueError(f"{name} = {show(value)}: expected a number in {lo:g}..{hi:g}")
     return float(value)
 
 
@@ -45,7 +59,7 @@ def check_settings(s) -> dict:
         raise ValueError("settings: expected an object")
     known = {"width_mm", "height_mm", "px_per_mm", "preset", "tufts", "scene", "ink", "wetness"}
     if set(s) - known:
-        raise ValueError(f"settings: unknown field {sorted(set(s) - known)[0]!r}")
+        raise ValueError(f"settings: unknown field {show(sorted(set(s) - known)[0])}")
     out = {name: _number(s.get(name), name, 1.0, 10000.0) for name in ("width_mm", "height_mm")}
     out["px_per_mm"] = _number(s.get("px_per_mm"), "px_per_mm", 0.1, 100.0)
     if max(out["width_mm"], out["height_mm"]) * out["px_per_mm"] > MAX_PX + 0.5:
@@ -63,11 +77,11 @@ def check_change(c) -> dict:
     out = {}
     if "preset" in c:
         if c["preset"] not in BrushModel.presets():
-            raise ValueError(f"preset {c['preset']!r}: choose from {', '.join(BrushModel.presets())}")
+            raise ValueError(f"preset {show(c['preset'])}: choose from {', '.join(BrushModel.presets())}")
         out["preset"] = c["preset"]
     if "tufts" in c:
         if isinstance(c["tufts"], bool) or not isinstance(c["tufts"], int) or not 1 <= c["tufts"] <= MAX_TUFTS:
-            raise ValueError(f"tufts = {c['tufts']!r}: expected a whole number in 1..{MAX_TUFTS}")
+            raise ValueError(f"tufts = {show(c['tufts'])}: expected a whole number in 1..{MAX_TUFTS}")
         out["tufts"] = c["tufts"]
     if "scene" in c:
         scene = c["scene"]
@@ -81,7 +95,7 @@ def check_change(c) -> dict:
 def check_event(ev) -> list:
     """One event, checked (ValueError otherwise); numbers as floats."""
     if not isinstance(ev, list) or not ev or not isinstance(ev[0], str):
-        raise ValueError(f"event {str(ev)[:40]}: expected a list starting with its name")
+        raise ValueError(f"event {show(ev, 40)}: expected a list starting with its name")
     name, args = ev[0], ev[1:]
     if name == "pose" and len(args) == 6:
         lim = ("x", -1e5, 1e5), ("y", -1e5, 1e5), ("z", -1e4, 1e4), ("tilt", 0.0, TILT_MAX), \
@@ -93,7 +107,7 @@ def check_event(ev) -> list:
         return ["dip", _number(args[0], "ink", 0.0, 1.0), _number(args[1], "wetness", 0.0, 1.0)]
     if name == "settings" and len(args) == 1:
         return ["settings", check_change(args[0])]
-    raise ValueError(f"event {str(ev)[:40]}: unknown name or wrong number of arguments")
+    raise ValueError(f"event {show(ev, 40)}: unknown name or wrong number of arguments")
 
 
 def unite(a: Rect | None, b: Rect | None) -> Rect | None:
@@ -128,6 +142,10 @@ class Painting:
         self.stroke_rect: Rect | None = None
         self.undo_stack: list = []         # [(rect, (h, w, 4) float32 premultiplied RGBA before a pen stroke)]
         self._before = np.zeros((self.paper.height_px, self.paper.width_px, 4), np.float32)
+        # the bytes undo keeps: UNDO_BYTES at the painted resolution, scaled with the area of a
+        # pixel so that a replay at another size keeps the same strokes
+        self.undo_budget = max(UNDO_BYTES * (self.ppm / s["px_per_mm"]) ** 2, self._before.nbytes)
+        self._encoded: list = []           # the events as JSON text, each encoded once (log_json)
         self.frames, self.sim_s = 0, 0.0   # simulated frames and their time (step + deposit), s
         self.split_frames = 0              # frames the brush was split into several tufts
 
@@ -234,10 +252,21 @@ class Painting:
         self.paper.end_stroke()
         rect = self.stroke_rect
         if rect is not None:
-            self.undo_stack = (self.undo_stack + [(rect, self._crop(self._before, rect))])[-UNDO_DEPTH:]
+            self._keep_undo(rect, self._crop(self._before, rect))
             self._before = None
         self.down = False
         return rect
+
+    def _keep_undo(self, rect: Rect, kept: np.ndarray) -> None:
+        """Remember `kept` for undo: the newest UNDO_DEPTH entries at most, and the oldest dropped
+        while they hold more than the budget of bytes (the newest always stays)."""
+        self.undo_stack = (self.undo_stack + [(rect, kept)])[-UNDO_DEPTH:]
+        while len(self.undo_stack) > 1 and self.undo_bytes() > self.undo_budget:
+            self.undo_stack.pop(0)
+
+    def undo_bytes(self) -> int:
+        """Bytes of paper undo keeps."""
+        return sum(kept.nbytes for _, kept in self.undo_stack)
 
     def prepare_undo(self) -> None:
         """Keep the paper as it is before the next pen stroke (idle time is the time to do it)."""
@@ -267,7 +296,7 @@ class Painting:
     def _clear(self) -> Rect:
         self._up()
         self.prepare_undo()
-        self.undo_stack = (self.undo_stack + [(self.full_rect(), self._before)])[-UNDO_DEPTH:]
+        self._keep_undo(self.full_rect(), self._before)
         self.paper.clear()
         self._before = np.zeros_like(self._before)
         return self.full_rect()
@@ -300,3 +329,11 @@ class Painting:
     def log(self) -> dict:
         """Settings at the start and every event since: replays to this picture."""
         return {"format": LOG_FORMAT, "version": 1, "settings": self.initial, "events": self.events}
+
+    def log_json(self) -> str:
+        """log() as compact JSON text; each event is encoded once, so a long log is not encoded
+        again on every save."""
+        enc = self._encoded
+        enc.extend(json.dumps(ev, separators=(",", ":")) for ev in self.events[len(enc):])
+        head = json.dumps({"format": LOG_FORMAT, "version": 1, "settings": self.initial}, separators=(",", ":"))
+        return head[:-1] + ',"events":[' + ",".join(enc) + "]}"

@@ -20,6 +20,8 @@ def read_log(path: str | os.PathLike) -> dict:
             log = json.load(f)
         except (json.JSONDecodeError, UnicodeDecodeError) as err:
             raise ValueError(f"{path}: not a JSON log ({err})") from None
+        except RecursionError:
+            raise ValueError(f"{path}: not a JSON log (nested too deeply)") from None
     if not isinstance(log, dict) or log.get("format") != LOG_FORMAT or log.get("version") != 1:
         raise ValueError(f"{path}: not a {LOG_FORMAT} log of version 1")
     if not isinstance(log.get("events"), list):
@@ -32,9 +34,14 @@ def read_log(path: str | os.PathLike) -> dict:
     return {"settings": settings, "events": events}
 
 
-def replay(log: dict, size: int | None = None) -> Painting:
+class Cancelled(Exception):
+    """A replay stopped because its `cancel` event was set."""
+
+
+def replay(log: dict, size: int | None = None, cancel=None) -> Painting:
     """A painting that has applied every event of `log`; `size`: the longer side of the paper in
-    px (default: the size it was painted at)."""
+    px (default: the size it was painted at). `cancel` (a threading.Event) set stops it between
+    two events with Cancelled."""
     s = log["settings"]
     ppm = None
     if size is not None:
@@ -43,6 +50,8 @@ def replay(log: dict, size: int | None = None) -> Painting:
         ppm = size / max(s["width_mm"], s["height_mm"])
     painting = Painting(s, px_per_mm=ppm)
     for ev in log["events"]:
+        if cancel is not None and cancel.is_set():
+            raise Cancelled("the replay was cancelled")
         painting.apply(ev)
     return painting
 

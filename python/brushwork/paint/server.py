@@ -1,36 +1,36 @@
-"""The web app of `brushwork paint`: the page, the paper as PNG, and a WebSocket that takes pen
-samples and answers with the changed part of the paper (the protocol: README "Painting").
+"""The web app of `brushwork paint`: the page, each painting as PNG and log, and a WebSocket that
+takes pen samples and answers with the changed part of the paper (the protocol: docs/paint.md).
 
-Every message is handled in order by one worker that owns the `Painting` (the core's GL context
-lives on the event loop's thread): messages waiting together are applied together and answered by
-one tile, so a slow paper never falls behind the pen by more than one readback.
+Each WebSocket connection paints a painting of its own (`session.Session`: its brush, pen, undo
+and log, worked on a thread of its own); `GET /image.png` and `/log.json` name one with
+`?painting=ID` (the `hello` message's `painting`), or take the only one. The event loop does no
+painting: it checks messages, answers `ping` at once and passes the rest on. A re-render from the
+log runs on a thread of its own too, within a budget of pixels and frames, and stops when its
+client leaves or the server stops.
 """
 from __future__ import annotations
 
 import asyncio
-import base64
 import hmac
 import ipaddress
-import json
-import math
-import os
+import secrets
+import threading
 import time
+from concurrent.futures import ThreadPoolExecutor
 from importlib import resources
 
-import numpy as np
 from aiohttp import WSMsgType, web
 
-from .painting import MAX_TUFTS, SCENE_FLAGS, Painting, check_change, unite
+from .painting import MAX_TUFTS, SCENE_FLAGS, show
+from .protocol import MAX_FRAME, MAX_SAMPLES, RATE, Bucket, Pen, admit, parse_message
+from .session import Session, png_bytes
 
-MAX_MESSAGE = 64 * 1024      # bytes: a longer text message is refused with an error
-MAX_FRAME = 1024 * 1024      # bytes: a longer frame closes the connection (aiohttp's limit)
-MAX_SAMPLES = 256            # samples in one message
-RATE = {"messages": (200.0, 400.0), "samples": (2000.0, 4000.0)}   # per second, burst
-QUEUE_MAX = 64               # messages waiting for the worker; the reader waits beyond
-VIEW_PX = 256                # side of the brush view, px
-VIEW_PERIOD = 0.1            # s: the brush view is re-rendered at most this often, when idle
-LOG_PERIOD = 2.0             # s: the log file is rewritten at most this often, when idle
 DEFAULT_PPM = 5.0            # px per mm of the page's paper
+MAX_PAINTINGS = 16           # paintings (connections) at once; another is told so and closed
+RERENDER_MAX_PX = 4096       # px: the longest side the server re-renders (`brushwork replay` goes to 8192)
+RERENDER_MAX_FRAMES = 200_000  # simulated frames a re-render may replay
+RERENDER_SLOTS = 2           # re-renders at once (one per painting)
+RERENDER_TIMEOUT_S = 120.0   # s: a re-render still running then is stopped
 STATIC = {"": ("index.html", "text/html"), "paint.js": ("paint.js", "text/javascript"),
           "paint.css": ("paint.css", "text/css")}
 
@@ -44,245 +44,112 @@ def is_loopback(host: str) -> bool:
         return False
 
 
-def png_bytes(rgb: np.ndarray) -> bytes:
-    """(h, w, 3) uint8 RGB -> PNG."""
-    import cv2
-
-    ok, data = cv2.imencode(".png", np.ascontiguousarray(rgb[..., ::-1]))
-    if not ok:
-        raise RuntimeError("PNG encoding failed")
-    return data.tobytes()
+def host_name(host: str) -> str:
+    """The name of a Host header or an address, without port or IPv6 brackets, lower case."""
+    host = host.strip().lower()
+    if host.startswith("["):
+        return host[1:host.find("]")] if "]" in host else host
+    return host.rsplit(":", 1)[0] if host.count(":") == 1 else host
 
 
-class Bucket:
-    """A token bucket: `rate` per second, at most `burst` at once."""
+class Server:
+    """The paintings of one app and how each is made."""
 
-    def __init__(self, rate: float, burst: float):
-        self.rate, self.burst, self.level, self.t = rate, burst, burst, time.monotonic()
+    def __init__(self, settings: dict, log_dir: str | None):
+        self.settings, self.log_dir = settings, log_dir
+        self.sessions: dict[str, Session] = {}
+        self.tasks: dict[str, asyncio.Task] = {}
+        self.rerenders = 0                 # re-renders running
+        self.stopping = threading.Event()  # set when the server stops: every re-render ends
 
-    def take(self, n: float) -> bool:
-        now = time.monotonic()
-        self.level = min(self.burst, self.level + (now - self.t) * self.rate)
-        self.t = now
-        if n > self.level:
-            return False
-        self.level -= n
-        return True
+    async def open(self, ws) -> Session:
+        session = Session(secrets.token_hex(4), ws, self.log_dir)
+        self.sessions[session.id] = session
+        await session.open(self.settings)
+        self.tasks[session.id] = asyncio.ensure_future(session.run())
+        return session
 
+    async def close(self, session: Session) -> None:
+        self.sessions.pop(session.id, None)
+        task = self.tasks.pop(session.id, None)
+        if task is not None:
+            task.cancel()
+        await session.close()
 
-def _num(obj: dict, key: str, lo: float, hi: float, default=None) -> float:
-    v = obj.get(key, default)
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo <= v <= hi:
-        raise ValueError(f"{key} = {str(v)[:20]}: expected a number in {lo:g}..{hi:g}")
-    return float(v)
+    async def close_all(self) -> None:
+        self.stopping.set()
+        await asyncio.gather(*(self.close(s) for s in list(self.sessions.values())), return_exceptions=True)
 
+    def find(self, request: web.Request) -> Session:
+        """The painting ?painting=ID names, or the only one (HTTP 404 / 400 otherwise)."""
+        sid = request.query.get("painting")
+        if sid is not None:
+            if sid not in self.sessions or self.sessions[sid].closed.is_set():
+                raise web.HTTPNotFound(text=f"painting = {show(sid)}: no such painting (it ends when its page closes)")
+            return self.sessions[sid]
+        if len(self.sessions) == 1:
+            return next(iter(self.sessions.values()))
+        raise web.HTTPBadRequest(text="painting: name one with ?painting=ID (the page's hello message)"
+                                 if self.sessions else "no painting: open the page to start one")
 
-def pen_angles(tilt_x: float, tilt_y: float) -> tuple[float, float]:
-    """Pointer Events' tiltX, tiltY (deg, the pen leaning toward +x right and +y down the
-    screen) -> (tilt from the normal, azimuth on the paper counter-clockwise from +x, y up), deg."""
-    tx, ty = math.tan(math.radians(tilt_x)), math.tan(math.radians(tilt_y))
-    tilt = math.degrees(math.atan(math.hypot(tx, ty)))
-    return tilt, (math.degrees(math.atan2(-ty, tx)) if tilt > 0 else 0.0)
-
-
-def parse_sample(s) -> tuple:
-    """One sample of a `samples` message -> (x, y, pressure, tilt, azimuth, twist): x, y canvas
-    px (y down); either tiltX, tiltY (deg) or tilt, azimuth (deg, paper frame); twist deg."""
-    if not isinstance(s, dict):
-        raise ValueError("a sample must be an object")
-    xy = _num(s, "x", -1e5, 1e5), _num(s, "y", -1e5, 1e5)
-    pressure = _num(s, "pressure", 0.0, 1.0, 0.5)
-    if "tiltX" in s or "tiltY" in s:
-        angles = pen_angles(_num(s, "tiltX", -90, 90, 0.0), _num(s, "tiltY", -90, 90, 0.0))
-    else:
-        angles = _num(s, "tilt", 0.0, 90.0, 0.0), _num(s, "azimuth", -720.0, 720.0, 0.0)
-    return xy + (pressure,) + angles + (_num(s, "twist", -360.0, 720.0, 0.0),)
-
-
-def parse_message(text: str) -> dict:
-    """A client's text message, checked: {"type", "seq", ...} (ValueError naming the problem)."""
-    try:
-        msg = json.loads(text)
-    except (ValueError, RecursionError):      # (RecursionError: nested too deeply)
-        raise ValueError("not JSON, or nested too deeply") from None
-    if not isinstance(msg, dict) or not isinstance(msg.get("type"), str):
-        raise ValueError("expected an object with a string `type`")
-    seq = msg.get("seq")
-    if seq is not None and (isinstance(seq, bool) or not isinstance(seq, int) or not 0 <= seq < 2 ** 53):
-        raise ValueError("seq: expected a non-negative integer")
-    return {"type": msg["type"], "seq": seq, **_body(msg)}
-
-
-def _body(msg: dict) -> dict:
-    """The checked contents of a message of each type."""
-    kind = msg["type"]
-    if kind == "samples":
-        samples = msg.get("samples")
-        if not isinstance(samples, list) or not 1 <= len(samples) <= MAX_SAMPLES:
-            raise ValueError(f"samples: expected a list of 1..{MAX_SAMPLES} samples")
-        return {"samples": [parse_sample(s) for s in samples]}
-    if kind == "dip":
-        return {"dip": [_num(msg, "ink", 0.0, 1.0, 1.0), _num(msg, "wetness", 0.0, 1.0, 1.0)]}
-    if kind == "settings":
-        return {"change": check_change({k: msg[k] for k in ("preset", "tufts", "scene") if k in msg})}
-    if kind not in ("up", "undo", "clear"):
-        raise ValueError(f"unknown type {kind[:20]!r}")
-    return {}
-
-
-def message_events(painting: Painting, msg: dict) -> list:
-    """The painting events of a checked message."""
-    kind = msg["type"]
-    if kind == "samples":
-        return [painting.sample_pose(*s) for s in msg["samples"]]
-    if kind == "dip":
-        return [["dip"] + msg["dip"]]
-    if kind == "settings":
-        return [["settings", msg["change"]]]
-    return [[kind]]
-
-
-class Painter:
-    """The painting and its clients: a queue of checked messages, one worker applying them."""
-
-    def __init__(self, painting: Painting, log_path: str | None = None):
-        self.painting, self.log_path = painting, log_path
-        self.queue: asyncio.Queue = asyncio.Queue(maxsize=QUEUE_MAX)
-        self.sockets: set = set()
-        self.view = None                   # the BrushView, made on first use
-        self.view_t = self.log_t = 0.0
-        self.dirty_view = self.dirty_log = True
-
-    async def run(self) -> None:
-        while True:
-            jobs = [await self.queue.get()]
-            while not self.queue.empty():
-                jobs.append(self.queue.get_nowait())
-            try:
-                await self._apply(jobs)
-            except Exception as err:  # noqa: BLE001 - the core refused an event: tell, keep painting
-                await self.broadcast({"type": "error", "message": f"painting failed: {err}"})
-            if self.queue.empty():
-                await self._idle()
-
-    async def _apply(self, jobs: list) -> None:
-        s = self.painting
-        rect, seqs, full = None, {}, False
-        for ws, msg in jobs:
-            for ev in message_events(s, msg):
-                r = s.apply(ev)
-                full = full or ev[0] in ("undo", "clear", "settings")
-                rect = unite(rect, r)
-            seqs[ws] = msg["seq"]
-        self.dirty_view = self.dirty_log = True
-        await self.send_tile(s.full_rect() if full else rect, seqs)
-
-    async def _idle(self) -> None:
-        """Work for when no message waits: the brush view, undo's copy of the paper, the log file."""
-        now = time.monotonic()
-        if self.dirty_view and now - self.view_t >= VIEW_PERIOD and self.sockets:
-            await self.broadcast(self.view_message())
-            self.view_t, self.dirty_view = now, False
-        self.painting.prepare_undo()
-        if self.dirty_log and self.log_path and now - self.log_t >= LOG_PERIOD:
-            self.write_log()
-
-    def write_log(self) -> None:
-        from ..files import write_atomic
-
-        def write(tmp: str) -> None:
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(self.painting.log(), f, separators=(",", ":"))
-
-        write_atomic(self.log_path, write, suffix=".json")
-        self.log_t, self.dirty_log = time.monotonic(), False
-
-    def view_message(self) -> dict:
-        from ..view import BrushView
-
-        if self.view is None:
-            self.view = BrushView(VIEW_PX, VIEW_PX)
-        rgba = self.view.render(self.painting.brush, self.painting.paper)
-        return {"type": "view", "png": base64.b64encode(png_bytes(rgba[..., :3])).decode()}
-
-    def tile_message(self, rect, seq=None) -> dict:
-        """The paper inside `rect` (px, y up) as a PNG tile placed at (x, y) on the canvas (y down)."""
-        s = self.painting
-        w, h = s.size_px
-        msg = {"type": "tile", "seq": seq, "down": s.down, "contact": s.contact_px()}
-        if rect is not None:
-            x0, y0, x1, y1 = max(rect[0], 0), max(rect[1], 0), min(rect[2], w), min(rect[3], h)
-            if x0 < x1 and y0 < y1:
-                crop = s.image()[h - y1:h - y0, x0:x1]
-                msg.update(x=x0, y=h - y1, w=x1 - x0, h=y1 - y0, png=base64.b64encode(png_bytes(crop)).decode())
-        return msg
-
-    async def send_tile(self, rect, seqs: dict) -> None:
-        msg = self.tile_message(rect)
-        for ws in list(self.sockets):
-            await self.send(ws, {**msg, "seq": seqs.get(ws)})
-
-    async def send(self, ws, msg: dict) -> None:
-        try:
-            await ws.send_str(json.dumps(msg))
-        except (ConnectionError, RuntimeError):
-            self.sockets.discard(ws)
-
-    async def broadcast(self, msg: dict) -> None:
-        for ws in list(self.sockets):
-            await self.send(ws, msg)
-
-    def hello(self) -> dict:
-        s = self.painting
+    @staticmethod
+    def hello() -> dict:
         from .. import BrushModel
 
-        return {"type": "hello", "width": s.size_px[0], "height": s.size_px[1], "settings": s.settings,
-                "presets": BrushModel.presets(), "flags": list(SCENE_FLAGS), "max_samples": MAX_SAMPLES,
-                "max_tufts": MAX_TUFTS}
+        return {"type": "hello", "presets": BrushModel.presets(), "flags": list(SCENE_FLAGS),
+                "max_samples": MAX_SAMPLES, "max_tufts": MAX_TUFTS}
 
 
-PAINTER = web.AppKey("painter", Painter)
+SERVER = web.AppKey("server", Server)
 
 
-async def _ws(request: web.Request) -> web.WebSocketResponse:
+def _check_origin(request: web.Request) -> None:
     origin = request.headers.get("Origin")
     if origin is not None and origin.split("://", 1)[-1] != request.host:
         raise web.HTTPForbidden(text="cross-origin WebSocket refused")
-    painter: Painter = request.app[PAINTER]
-    ws = web.WebSocketResponse(max_msg_size=MAX_FRAME, heartbeat=30.0)
+
+
+async def _ws(request: web.Request) -> web.WebSocketResponse:
+    _check_origin(request)
+    server: Server = request.app[SERVER]
+    ws = web.WebSocketResponse(max_msg_size=MAX_FRAME, heartbeat=30.0, timeout=1.0)
     await ws.prepare(request)
-    painter.sockets.add(ws)
-    await painter.send(ws, painter.hello())
-    await painter.send(ws, painter.tile_message(painter.painting.full_rect()))
-    await painter.send(ws, painter.view_message())
-    buckets = {k: Bucket(*v) for k, v in RATE.items()}
+    if len(server.sessions) >= MAX_PAINTINGS:
+        await ws.send_json({"type": "error", "message": f"the server paints {MAX_PAINTINGS} paintings at "
+                            "once: try again when one closes"})
+        await ws.close()
+        return ws
+    session = await server.open(ws)
     try:
-        async for m in ws:
-            if m.type != WSMsgType.TEXT:
-                await painter.send(ws, {"type": "error", "message": "only text messages (JSON) are accepted"})
-                continue
-            err = _admit(m.data, buckets)
-            if err is None:
-                try:
-                    await painter.queue.put((ws, parse_message(m.data)))
-                    continue
-                except ValueError as e:
-                    err = str(e)
-            await painter.send(ws, {"type": "error", "message": err})
+        for msg in await session.call(session.greeting, server.hello()):
+            await session.send(msg)
+        await _read(ws, session)
     finally:
-        painter.sockets.discard(ws)
+        await server.close(session)
     return ws
 
 
-def _admit(text: str, buckets: dict) -> str | None:
-    """Why a message is refused before it is read (size, rate), or None."""
-    if len(text) > MAX_MESSAGE:
-        return f"message of {len(text)} bytes refused: at most {MAX_MESSAGE}"
-    if not buckets["messages"].take(1):
-        return "too many messages: slow down"
-    if not buckets["samples"].take(min(text.count("{"), MAX_SAMPLES)):
-        return "too many samples: slow down"
-    return None
+async def _read(ws: web.WebSocketResponse, session: Session) -> None:
+    """Check each message; answer pings at once, pass the rest to the painting's queue."""
+    buckets = {k: Bucket(*v) for k, v in RATE.items()}
+    pen = Pen(session.painting.ppm)
+    async for m in ws:
+        if m.type != WSMsgType.TEXT:
+            await session.send({"type": "error", "message": "only text messages (JSON) are accepted"})
+            continue
+        err = admit(m.data, buckets)
+        if err is None:
+            try:
+                msg = parse_message(m.data)
+                err = pen.budget(msg, buckets["frames"])
+            except ValueError as e:
+                err = str(e)
+        if err is not None:
+            await session.send({"type": "error", "message": err})
+        elif msg["type"] == "ping":
+            await session.send({"type": "pong", "seq": msg["seq"]})
+        else:
+            await session.queue.put(msg)
 
 
 async def _static(request: web.Request) -> web.Response:
@@ -294,71 +161,151 @@ async def _static(request: web.Request) -> web.Response:
     return web.Response(text=text, content_type=kind)
 
 
+def parse_size(text: str) -> int:
+    """?size=: a whole number of px, 16..RERENDER_MAX_PX (HTTP 400 naming `size` otherwise)."""
+    if not text.isascii() or not text.isdigit() or not 16 <= int(text[:6]) <= RERENDER_MAX_PX:
+        raise web.HTTPBadRequest(text=f"size = {show(text)}: expected a whole number of px, 16..{RERENDER_MAX_PX} "
+                                 "(`brushwork replay LOG --size N` renders up to 8192)")
+    return int(text)
+
+
 async def _image(request: web.Request) -> web.Response:
-    """The paper now, or (?size=N) re-rendered from the log with its longer side N px."""
-    painting: Painting = request.app[PAINTER].painting
+    """A painting now, or (?size=N) re-rendered from its log with its longer side N px."""
+    server: Server = request.app[SERVER]
     size = request.query.get("size")
-    if size is None:
-        return web.Response(body=png_bytes(painting.image()), content_type="image/png")
+    n = parse_size(size) if size is not None else None
+    session = server.find(request)
+    if n is None:
+        return web.Response(body=await session.call(session.png), content_type="image/png")
+    body = await _rerender(request, server, session, n)
+    return web.Response(body=body, content_type="image/png",
+                        headers={"Content-Disposition": f'attachment; filename="paint-{n}.png"'})
+
+
+def _render_png(log: dict, size: int, cancel: threading.Event) -> bytes | str:
+    """The log replayed at `size` as PNG, or why not (on a thread of its own: its own GL
+    context, and the painting taken apart on it)."""
     from .replay import replay
 
     try:
-        paper = replay(painting.log(), int(size)).paper
-    except ValueError as err:
-        raise web.HTTPBadRequest(text=str(err)) from None
-    return web.Response(body=png_bytes(paper.image()), content_type="image/png",
-                        headers={"Content-Disposition": f'attachment; filename="paint-{size}.png"'})
+        return png_bytes(replay(log, size, cancel).image())
+    except Exception as err:  # noqa: BLE001 - said to the client; nothing held past this thread
+        return show(str(err), 200)
+
+
+async def _rerender(request: web.Request, server: Server, session: Session, size: int) -> bytes:
+    """Re-render `session`'s log at `size` within the budgets; stopped when its client leaves,
+    the painting closes, the server stops or RERENDER_TIMEOUT_S passes."""
+    frames = session.painting.frames
+    if frames > RERENDER_MAX_FRAMES:
+        raise web.HTTPRequestEntityTooLarge(
+            max_size=RERENDER_MAX_FRAMES, actual_size=frames,
+            text=f"the painting holds {frames} simulated frames: the server re-renders at most "
+                 f"{RERENDER_MAX_FRAMES}; save its log and use `brushwork replay`")
+    if session.rerendering or server.rerenders >= RERENDER_SLOTS:
+        raise web.HTTPServiceUnavailable(text="a re-render is running: try again when it ends",
+                                         headers={"Retry-After": "5"})
+    log = await session.call(session.painting.log)
+    log = {**log, "events": list(log["events"])}
+    cancel = threading.Event()
+    session.rerendering, server.rerenders = True, server.rerenders + 1
+    pool = ThreadPoolExecutor(1, thread_name_prefix=f"rerender-{session.id}")
+    try:
+        job = asyncio.get_running_loop().run_in_executor(pool, _render_png, log, size, cancel)
+        result = await _watch(job, cancel, request, server, session)
+    finally:
+        cancel.set()
+        pool.shutdown(wait=False)
+        session.rerendering, server.rerenders = False, server.rerenders - 1
+    if isinstance(result, str):
+        raise web.HTTPServiceUnavailable(text=f"re-render stopped: {result}")
+    return result
+
+
+async def _watch(job, cancel: threading.Event, request: web.Request, server: Server, session: Session):
+    """The result of `job`, or `cancel` set once nobody waits for it any more."""
+    deadline = time.monotonic() + RERENDER_TIMEOUT_S
+    while not job.done():
+        await asyncio.wait([job], timeout=0.2)
+        transport = request.transport
+        gone = transport is None or transport.is_closing()
+        if gone or session.closed.is_set() or server.stopping.is_set() or time.monotonic() > deadline:
+            cancel.set()
+    return await job
 
 
 async def _log(request: web.Request) -> web.Response:
-    return web.json_response(request.app[PAINTER].painting.log(),
-                             headers={"Content-Disposition": 'attachment; filename="paint-log.json"'})
+    session = request.app[SERVER].find(request)
+    return web.Response(text=await session.call(session.painting.log_json), content_type="application/json",
+                        headers={"Content-Disposition": 'attachment; filename="paint-log.json"'})
 
 
-def _token_check(token: str | None):
+def _guard(token: str | None, hosts: frozenset | None):
+    """A middleware: every request's Host among `hosts` (None: any; DNS rebinding ends here) and,
+    with a token, its ?token= equal to it (compared in constant time, as bytes)."""
+    want = None if token is None else token.encode("utf-8")
+
     @web.middleware
     async def check(request: web.Request, handler):
-        if token is not None and not hmac.compare_digest(request.query.get("token", ""), token):
+        if hosts is not None and host_name(request.host) not in hosts:
+            raise web.HTTPForbidden(text=f"Host {show(request.host)} refused: serving "
+                                    f"{', '.join(sorted(hosts))} (--allow-host adds a name)")
+        given = request.query.get("token", "").encode("utf-8", "surrogateescape")
+        if want is not None and not hmac.compare_digest(given, want):
             raise web.HTTPForbidden(text="a token is needed: open the URL brushwork paint printed")
         return await handler(request)
 
     return check
 
 
+def allowed_hosts(host: str, allow: tuple = ()) -> frozenset | None:
+    """The Host names a server bound to `host` answers: that address, localhost (on loopback) and
+    `allow`; None (any) for a wildcard address, which --token guards."""
+    name = host_name(host)
+    if name in ("0.0.0.0", "::", ""):
+        return None
+    names = {name, *(host_name(a) for a in allow)}
+    if is_loopback(name):
+        names |= {"localhost", "127.0.0.1", "::1"}
+    return frozenset(names)
+
+
 def make_app(size=(960, 640), preset: str = "medium", token: str | None = None,
-             log_path: str | None = None, px_per_mm: float = DEFAULT_PPM, tufts: int = 1) -> web.Application:
-    """The app: a fresh painting `size` px (width, height) with the `preset` brush of `tufts`
-    tufts (the main one and the children it may split into)."""
+             log_dir: str | None = None, px_per_mm: float = DEFAULT_PPM, tufts: int = 1,
+             host: str = "127.0.0.1", allow_hosts: tuple = ()) -> web.Application:
+    """The app: each connection paints a fresh painting `size` px (width, height) with the
+    `preset` brush of `tufts` tufts (the main one and the children it may split into); its log
+    goes to `log_dir` (None: none). Requests must name `host` (or `allow_hosts`) as their Host."""
     w, h = size
-    painting = Painting({"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
-                       "preset": preset, "tufts": tufts, "scene": {"depletion": True}})
-    app = web.Application(middlewares=[_token_check(token)], client_max_size=MAX_FRAME)
-    app[PAINTER] = Painter(painting, log_path)
+    settings = {"width_mm": w / px_per_mm, "height_mm": h / px_per_mm, "px_per_mm": px_per_mm,
+                "preset": preset, "tufts": tufts, "scene": {"depletion": True}}
+    app = web.Application(middlewares=[_guard(token, allowed_hosts(host, allow_hosts))], client_max_size=MAX_FRAME)
+    app[SERVER] = Server(settings, log_dir)
     app.router.add_get("/", _static)
     app.router.add_get("/static/{name}", _static)
     app.router.add_get("/image.png", _image)
     app.router.add_get("/log.json", _log)
     app.router.add_get("/ws", _ws)
 
-    async def worker(app: web.Application):
-        task = asyncio.ensure_future(app[PAINTER].run())
-        yield
-        task.cancel()
-        if app[PAINTER].log_path:
-            app[PAINTER].write_log()
+    async def stop(app: web.Application) -> None:
+        await app[SERVER].close_all()
 
-    app.cleanup_ctx.append(worker)
+    app.on_shutdown.append(stop)
     return app
 
 
+STOP_GRACE_S = 4.0           # s: after SIGTERM, work still running then is abandoned
+
+
 async def serve(app: web.Application, host: str, port: int, announce) -> None:
-    """Serve `app` until SIGINT or SIGTERM (then the log is written); `announce(port)` once it listens."""
+    """Serve `app` until SIGINT or SIGTERM (then every painting's log is written); `announce(port)`
+    once it listens. The process ends within STOP_GRACE_S of the signal whatever runs."""
     import signal
 
     stop = asyncio.Event()
     for sig in (signal.SIGINT, signal.SIGTERM):
         asyncio.get_running_loop().add_signal_handler(sig, stop.set)
-    runner = web.AppRunner(app)
+    runner = web.AppRunner(app, shutdown_timeout=1.0)
     await runner.setup()
     try:
         site = web.TCPSite(runner, host, port)
@@ -366,5 +313,21 @@ async def serve(app: web.Application, host: str, port: int, announce) -> None:
         bound = site._server.sockets[0].getsockname()[1] if port == 0 else port
         announce(bound)
         await stop.wait()
+        _exit_after(STOP_GRACE_S)
     finally:
+        app[SERVER].stopping.set()
         await runner.cleanup()
+
+
+def _exit_after(seconds: float) -> None:
+    """End the process `seconds` from now if it is still running (a thread deep in a frame)."""
+    import os
+    import sys
+
+    def force() -> None:
+        print("brushwork paint: stopped with work unfinished", file=sys.stderr, flush=True)
+        os._exit(1)
+
+    timer = threading.Timer(seconds, force)
+    timer.daemon = True
+    timer.start()

@@ -5,7 +5,8 @@ const query = token ? "?token=" + encodeURIComponent(token) : "";
 const $ = (id) => document.getElementById(id);
 const paper = $("paper"), overlay = $("overlay");
 const ctx = paper.getContext("2d"), octx = overlay.getContext("2d");
-const state = { seq: 0, drawnSeq: -1, tiles: 0, down: false, last: null, heading: 0, flags: [], ws: null };
+const state = { seq: 0, drawnSeq: -1, tiles: 0, down: false, last: null, heading: 0, flags: [], ws: null,
+                painting: null };
 window.paint = state;              // for tests and the console
 let drawing = Promise.resolve();   // tiles are drawn in the order they come
 
@@ -50,6 +51,8 @@ const handlers = {
       label.firstChild.onchange = sendScene;
       return label;
     }));
+    state.painting = m.painting;
+    links();
     status(`${m.width} x ${m.height} px, ${m.settings.px_per_mm} px/mm`);
   },
   tile(m) {
@@ -68,7 +71,7 @@ function connect() {
   const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws" + query);
   ws.onmessage = (e) => { const m = JSON.parse(e.data); if (handlers[m.type]) handlers[m.type](m); };
   ws.onopen = () => { state.ws = ws; };
-  ws.onclose = () => { state.ws = null; status("disconnected: reload the page"); };
+  ws.onclose = () => { state.ws = null; status("disconnected: reload the page for a new painting (this one's motion log stays in the server's log folder)"); };
 }
 
 // one pointer event -> one sample: canvas px, pressure, and the pen's angles
@@ -136,11 +139,15 @@ document.addEventListener("keydown", (e) => {
   if (e.key === "[" || e.key === "]") p.value = Number(p.value) + (e.key === "]" ? 0.05 : -0.05);
   if (e.key === "z" && (e.ctrlKey || e.metaKey)) $("undo").click();
 });
+// this page's painting (each connection paints its own) and the token, in every link
 function links() {
-  const amp = token ? "&token=" + encodeURIComponent(token) : "";
-  $("save").href = "image.png" + query;
-  $("save-size").href = "image.png?size=" + Number($("size").value) + amp;
-  $("save-log").href = "log.json" + query;
+  const q = new URLSearchParams();
+  if (state.painting) q.set("painting", state.painting);
+  if (token) q.set("token", token);
+  const rest = q.toString();
+  $("save").href = "image.png" + (rest ? "?" + rest : "");
+  $("save-size").href = "image.png?size=" + Number($("size").value) + (rest ? "&" + rest : "");
+  $("save-log").href = "log.json" + (rest ? "?" + rest : "");
 }
 $("size").oninput = links;
 links();
