@@ -10,7 +10,7 @@ from brushwork.cli import main  # noqa: E402
 from brushwork.outline3d import View, draw, fit, load_mesh, prepare  # noqa: E402
 from brushwork.outline3d.lines import BOUNDARY, CREASE, SILHOUETTE  # noqa: E402
 from brushwork.outline3d.strokes import OutlineStyle  # noqa: E402
-from brushwork.bench.outline import score  # noqa: E402
+from brushwork.bench.outline import lowpoly_set, score  # noqa: E402
 
 SIZE = 256
 
@@ -235,3 +235,27 @@ def test_a_line_ends_where_its_chain_ends(style):
         along = (np.column_stack([cols, rows]) + 0.5 - end) @ u       # px past the end
         assert -2.0 <= along.max() <= 2.0, f"{style} at {heading} deg: ink ends {along.max():.1f} px from the end"
         assert along.min() >= -300.0 - 2.0, f"{style} at {heading} deg: ink starts {-300 - along.min():.1f} px early"
+
+
+@pytest.mark.parametrize("name", sorted(lowpoly_set()))
+def test_faceted_and_low_poly_meshes_are_outlined_whole(name):
+    """Vertex normals lie on a low-poly surface (the smooth contour they give cuts across the
+    flat faces, inside the polygons' outline and partly hidden by them): the outline follows
+    the facet edges there, seen from any side."""
+    mesh = lowpoly_set()[name]
+    for azimuth, elevation in ((30.0, 20.0), (200.0, -35.0)):
+        s = score(_draw(mesh, view=View(azimuth, elevation, 30.0, (SIZE, SIZE))))
+        assert s["recall"] >= 0.95 and s["precision"] >= 0.95, (name, azimuth, s["recall"], s["precision"])
+
+
+def test_a_polygon_outline_is_one_line_round_its_corners():
+    """An icosahedron's outline, a polygon of turns up to 72 degrees, is one closed chain; the
+    cube's creases along its outline are not drawn again under it."""
+    d = _draw(trimesh.creation.icosphere(subdivisions=0), kinds=("silhouette",))
+    assert len(_chains(d, SILHOUETTE)) == 1 and _chains(d, SILHOUETTE)[0].closed
+    box = _draw(trimesh.creation.box((1.0, 1.0, 1.0)), kinds=("silhouette", "crease"))
+    assert len(_chains(box, SILHOUETTE)) == 1
+    outline = _chains(box, SILHOUETTE)[0].points
+    inner = np.vstack([c.points for c in _chains(box, CREASE)])           # the three edges at the near corner
+    along = np.min(np.linalg.norm(inner[:, None, :] - outline[None, ::4, :], axis=2), axis=1) < 3.0
+    assert len(inner) > 100 and along.mean() < 0.05

@@ -147,6 +147,56 @@ def bumpy_torus(faces: int = SYNTH_FACES):
     return mesh
 
 
+def _bevelled_box():
+    """A box of sides 2 x 1.4 x 1 whose edges are rounded in a few flat bevels: a subdivided cube
+    pushed onto a sphere, scaled past the box and clipped to it (flat sides, faceted corners)."""
+    import trimesh
+
+    cube = trimesh.creation.box((2.0, 2.0, 2.0)).subdivide().subdivide()
+    v = cube.vertices / np.linalg.norm(cube.vertices, axis=1, keepdims=True)
+    return trimesh.Trimesh(np.clip(1.25 * v, -1.0, 1.0) * [1.0, 0.7, 0.5], cube.faces)
+
+
+def _faceted_head():
+    """A low-poly head of a few hundred faces in the manner of Blender's monkey: a coarse
+    sphere, two ears and a snout as separate shells through it, eyes of 20 faces, and one
+    non-manifold edge (a face hidden inside the head on one of its edges)."""
+    import trimesh
+
+    head = trimesh.creation.uv_sphere(1.0, count=[10, 12])
+    head.apply_scale([1.0, 0.95, 0.9])
+    parts = [head]
+    for side in (-1.0, 1.0):
+        ear = trimesh.creation.icosphere(subdivisions=1, radius=1.0)
+        ear.apply_scale([0.12, 0.45, 0.38])
+        ear.apply_translation([side * 1.05, 0.25, -0.1])
+        eye = trimesh.creation.icosphere(subdivisions=0, radius=0.22)
+        eye.apply_translation([side * 0.35, 0.25, 0.86])
+        parts += [ear, eye]
+    snout = trimesh.creation.capsule(height=0.5, radius=0.35, count=[6, 6])
+    snout.apply_scale([1.3, 0.8, 1.0])
+    snout.apply_translation([0.0, -0.3, 0.7])
+    parts.append(snout)
+    mesh = trimesh.util.concatenate(parts)
+    a, b = head.faces[0, :2]
+    centre = len(mesh.vertices)
+    return trimesh.Trimesh(np.vstack([mesh.vertices, [[0.0, 0.0, 0.0]]]),
+                           np.vstack([mesh.faces, [[b, a, centre]]]), process=False)
+
+
+def lowpoly_set() -> dict:
+    """Faceted and low-poly test meshes by name (trimesh objects): icospheres of subdivision
+    0..2, a torus of few sections, a box, a bevelled box and a faceted head."""
+    import trimesh
+
+    meshes = {f"icosphere{k}": trimesh.creation.icosphere(subdivisions=k) for k in range(3)}
+    meshes["torus_lowpoly"] = trimesh.creation.torus(1.0, 0.4, major_sections=12, minor_sections=6)
+    meshes["box"] = trimesh.creation.box((1.0, 1.4, 0.8))
+    meshes["bevelled_box"] = _bevelled_box()
+    meshes["faceted_head"] = _faceted_head()
+    return meshes
+
+
 def _mesh_files(folder: str) -> list[Path]:
     root = Path(folder)
     if not root.is_dir():
