@@ -5,8 +5,22 @@ from __future__ import annotations
 
 import logging
 import os
+from pathlib import Path
 
 import numpy as np
+
+SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
+
+
+def mesh_files(folder) -> list[Path]:
+    """The mesh files of a folder, sorted; ValueError when it is not a folder or holds none."""
+    root = Path(folder)
+    if not root.is_dir():
+        raise ValueError(f"{folder}: no such folder")
+    files = sorted(p for p in root.iterdir() if p.suffix.lower() in SUFFIXES)
+    if not files:
+        raise ValueError(f"{folder}: no mesh files ({', '.join(SUFFIXES)})")
+    return files
 
 
 def _face_indices(tokens: list, n: int) -> list | None:
