@@ -4,13 +4,14 @@ boundaries, creases and (optionally) suggestive contours.
 Contours are the zero set of g = n . v interpolated linearly over each face from the normals n
 at its corners and the unit vectors v toward the eye (Bénard & Hertzmann 2019, "interpolated
 contours"), on the mesh welded across texture seams, so they run smooth and unbroken across
-coarse faces.  A corner's normal is the mean of the faces around its vertex reachable without
-crossing a facet edge, one whose faces part so far that a smooth curve through it would miss the
-flat faces' outline by more than FACET_SAG_PX: on a faceted or low-poly surface g jumps across
-such an edge, and where its two faces lie on either side of the zero set the contour runs along
-the edge itself (the outline of the polygons, as a flat-shaded rendering shows it).  Suggestive contours are zeros of the radial curvature, taken as zeros of
-D_w g (the derivative of g along w, the view vector projected on the tangent plane) where it
-rises along w, on front faces (DeCarlo et al. 2003).
+coarse faces.  A facet edge is one whose faces part so far that a smooth curve through it would
+miss the flat faces' outline by more than FACET_SAG_PX; at a vertex on one, each corner takes its
+face's own normal, elsewhere a corner's normal is the mean of the faces around its vertex.  On a
+faceted or low-poly surface g thus jumps across the facet edges, and where its two faces lie on
+either side of the zero set the contour runs along the edge itself (the outline of the polygons,
+as a flat-shaded rendering shows it).  Suggestive contours are zeros of the radial curvature,
+taken as zeros of D_w g (the derivative of g along w, the view vector projected on the tangent
+plane) where it rises along w, on front faces (DeCarlo et al. 2003).
 
 Lines come out as points (P, 3) in mesh units and segments (S, 2) of point indices with a kind
 per segment; segments of one kind share points where they meet (an edge's crossing, a vertex),
@@ -277,11 +278,16 @@ def _corner_ids(surface: Surface, faces: np.ndarray, vertex: np.ndarray) -> np.n
 
 def corner_labels(surface: Surface, facet: np.ndarray) -> np.ndarray:
     """(m, 3) a label per face corner, shared by the corners of one vertex whose faces connect
-    around it across manifold edges that are not in `facet` (smoothing groups)."""
-    ef = surface.edge_faces
+    around it across manifold edges that are not in `facet` (smoothing groups); every corner of
+    a vertex on a facet edge keeps its face's own normal (a smooth contour there would run
+    on from flat faces whose outline it misses)."""
+    ef, edges = surface.edge_faces, surface.edges
+    on_facet = np.zeros(len(surface.vertices), dtype=bool)
+    on_facet[edges[facet].reshape(-1)] = True
     e = np.flatnonzero((ef[:, 0] >= 0) & ~facet)
-    c1 = np.concatenate([_corner_ids(surface, ef[e, 0], surface.edges[e, j]) for j in (0, 1)])
-    c2 = np.concatenate([_corner_ids(surface, ef[e, 1], surface.edges[e, j]) for j in (0, 1)])
+    ends = [e[~on_facet[edges[e, j]]] for j in (0, 1)]
+    c1 = np.concatenate([_corner_ids(surface, ef[k, 0], edges[k, j]) for j, k in enumerate(ends)])
+    c2 = np.concatenate([_corner_ids(surface, ef[k, 1], edges[k, j]) for j, k in enumerate(ends)])
     labels = np.arange(3 * len(surface.faces))
     while True:                                  # the least id of each group, spread along the pairs
         new = labels.copy()
