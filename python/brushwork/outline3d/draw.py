@@ -138,8 +138,9 @@ def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KIN
     chains = ch.build(lines, camera, is_visible, min_px, style.smooth_passes)
     times["chaining"] = time.perf_counter() - t
     drawer = OutlineDrawer(style, view.size)
-    # hidden lines first, faint, under the visible ones; silhouettes last, on top
-    order = sorted((c for c in chains if c.visible or hidden == "faint"), key=lambda c: (c.visible, -c.kind))
+    # hidden lines first, faint, under the visible ones; then the silhouettes, with the freshest ink
+    # of a drying brush, and the lighter kinds after them
+    order = sorted((c for c in chains if c.visible or hidden == "faint"), key=lambda c: (c.visible, c.kind))
     shapes = _strokes(drawer, order, camera, style, surface.diagonal, vector)
     times["brush"], times["deposit"] = drawer.times.brush, drawer.times.deposit
     stats = {"faces": int(len(surface.faces)), "vertices": int(len(surface.vertices)),

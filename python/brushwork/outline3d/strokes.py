@@ -12,6 +12,7 @@ from ..brush import Brush, Pose
 from ..paper import Paper
 from ..recorded import along_path
 from ..scene import Scene
+from ..writing.driver import PRESS_MAX
 from .lines import KINDS
 from .style import OutlineStyle
 
@@ -22,7 +23,6 @@ ENTRY_START = 0.0       # of the line's press where the tip first touches
 ENTRY_PEAK = 0.4        # of the entry where its width is greatest
 OFFSET_GAIN = 0.25      # of the footprint centre's miss added to the root's offset each frame
 REHEARSAL_MM = 40.0     # length of the stroke that learns the offset before the first chain
-PRESS_MAX = 0.45        # L: the deepest press a line is given
 CALIBRATION = (0.3, 0.45, 0.6, 0.75, 0.9, 1.0, 1.15, 1.35, 1.6, 1.9, 2.3, 2.8)   # of the style's press
 CALIBRATION_MM = 48.0   # length of each straight stroke that measures a press's width
 

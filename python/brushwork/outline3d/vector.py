@@ -48,15 +48,27 @@ def stroke_outline(before: np.ndarray, after: np.ndarray, alpha: float) -> list:
     near = cv2.dilate(region[y0:y1, x0:x1].astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
     field_ = np.where(near, after[y0:y1, x0:x1], 0.0).astype(np.float32)
     big = cv2.resize(field_, None, fx=TRACE_SCALE, fy=TRACE_SCALE, interpolation=cv2.INTER_LINEAR)
-    mask = (big >= LEVEL * alpha).astype(np.uint8)
-    contours, _ = cv2.findContours(mask, cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+    level = LEVEL * alpha
+    contours, _ = cv2.findContours((big >= level).astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)
+    gy, gx = np.gradient(big)
     loops = []
     for c in contours:
-        c = cv2.approxPolyDP(c, SIMPLIFY_PX * TRACE_SCALE, True)[:, 0, :].astype(float)
+        c = _onto_level(c[:, 0, :], big, gx, gy, level)
+        c = cv2.approxPolyDP(c.astype(np.float32)[:, None, :], SIMPLIFY_PX * TRACE_SCALE, True)[:, 0, :]
         if len(c) >= 3:
             # a pixel i of the upsampled image is centred on (i + 0.5) / TRACE_SCALE of the image
-            loops.append((c + 0.5) / TRACE_SCALE + [x0, y0])
+            loops.append((c.astype(float) + 0.5) / TRACE_SCALE + [x0, y0])
     return loops
+
+
+def _onto_level(points: np.ndarray, field_: np.ndarray, gx: np.ndarray, gy: np.ndarray, level: float) -> np.ndarray:
+    """Contour points (k, 2) (x, y), the centres of the pixels just inside the region where the
+    field reaches `level`, moved along its gradient onto the level itself (one Newton step, at
+    most a pixel): the region's edge to a fraction of the traced pixel."""
+    x, y = points[:, 0], points[:, 1]
+    g = np.column_stack([gx[y, x], gy[y, x]])
+    step = (level - field_[y, x])[:, None] * g / np.maximum((g * g).sum(axis=1, keepdims=True), 1e-12)
+    return points + np.clip(step, -1.0, 1.0)
 
 
 def _path_data(loops: list) -> str:
