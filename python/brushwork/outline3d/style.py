@@ -14,21 +14,23 @@ minimum length (of the image diagonal) and smoothing.
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from pathlib import Path
 
-from ..writing.style import StyleField, read_style, style_dataclass
+from ..writing.style import FIELD_BY_NAME as WRITING, StyleField, read_style, style_dataclass
 
 OUTLINE_STYLE_DIR = Path(__file__).with_name("styles")
 KIND_WEIGHTS = {"silhouette": 1.0, "boundary": 0.8, "crease": 0.6, "suggestive": 0.4}
 
 _F = StyleField
+# (the fields a writing style has too are its table's rows)
 FIELDS: tuple[StyleField, ...] = (
-    _F("name", "str", "-", None, None, None, "the style's name", required=True),
-    _F("description", "str", "-", None, None, "", "what the line looks like"),
-    _F("preset", "str", "-", None, None, "small", "the brush: a BrushModel preset (`brushwork params`)"),
+    WRITING["name"],
+    replace(WRITING["description"], doc="what the line looks like"),
+    replace(WRITING["preset"], default="small"),
     _F("paper_mm", "float", "mm", 10.0, 5000.0, 200.0, "what the image's longer side spans on the paper"),
-    _F("tilt_deg", "float", "deg", 0.0, 60.0, 15.0, "handle against the paper's normal, leaning along the travel"),
-    _F("step_mm", "float", "mm", 0.1, 20.0, 1.0, "travel per frame"),
+    WRITING["tilt_deg"],
+    WRITING["step_mm"],
     _F("press", "float", "L", 0.0, 0.45, 0.125, "press depth of a line of weight 1, fraction of the tuft length",
        lo_open=True),
     _F("weight", "map", "-", 0.0, 3.0, KIND_WEIGHTS, "each kind's line width against a line of weight 1"),
@@ -47,7 +49,7 @@ FIELDS: tuple[StyleField, ...] = (
     _F("hidden_weight", "float", "-", 0.0, 3.0, 0.7, "width of hidden lines against visible ones"),
     _F("min_length", "float", "diagonal", 0.0, 0.5, 0.012, "shorter chains are not drawn"),
     _F("smooth_passes", "int", "passes", 0, 200, 20, "Laplacian smoothing of each chain, half way per pass"),
-    _F("scene", "scene", "-", None, None, {}, "rendering features (Scene settings)"),
+    replace(WRITING["scene"], default={}),
 )
 
 
