@@ -406,3 +406,30 @@ def test_svg_strokes_match_the_png(tmp_path):
     raster = resvg.svg_to_bytes(svg_path=str(tmp_path / "h.svg"), shape_rendering="crisp_edges")
     svg = cv2.imdecode(np.frombuffer(raster, np.uint8), cv2.IMREAD_GRAYSCALE) < 128
     assert svg.shape == png.shape and (png & svg).sum() / (png | svg).sum() >= 0.97
+
+
+def test_camera_from_a_gltf_scene(tmp_path, capsys):
+    """`--camera-from` draws through the scene's own camera: a unit ball 8 units in front of a
+    camera of 40 degrees, moved 1 unit right of it, lies left of the image's centre, as large
+    as that lens shows it; a scene without a camera is one line."""
+    import cv2
+
+    ball = trimesh.creation.icosphere(subdivisions=3)
+    to_world = np.eye(4)
+    to_world[:3, 3] = [1.0, 0.0, 8.0]
+    scene = trimesh.Scene(ball, camera=trimesh.scene.Camera(resolution=(SIZE, SIZE), fov=(40.0, 40.0)),
+                          camera_transform=to_world)
+    src, out = tmp_path / "scene.glb", tmp_path / "s.png"
+    scene.export(src)
+    assert main(["outline", str(src), "-o", str(out), "--size", str(SIZE), "--camera-from", str(src)]) == 0
+    ys, xs = np.nonzero(cv2.imread(str(out), cv2.IMREAD_GRAYSCALE) < 128)
+    focal = 0.5 * SIZE / np.tan(np.radians(20.0))                 # px per unit at unit depth
+    centre_x = 0.5 * SIZE - focal * 1.0 / 8.0
+    radius = focal / np.sqrt(8.0 ** 2 - 1.0)                    # the tangent cone's half angle, imaged
+    assert abs(0.5 * (xs.min() + xs.max()) - centre_x) < 4 and abs(0.5 * (ys.min() + ys.max()) - 0.5 * SIZE) < 4
+    assert abs(0.5 * (ys.max() - ys.min()) - radius) < 0.06 * radius
+    bare = tmp_path / "bare.glb"
+    trimesh.Scene(ball).export(bare)
+    assert main(["outline", str(src), "-o", str(out), "--camera-from", str(bare)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "no camera" in err

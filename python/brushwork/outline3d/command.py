@@ -34,6 +34,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     lens = p.add_mutually_exclusive_group()
     lens.add_argument("--fov", type=finite, default=30.0, help="vertical field of view, 1..120 degrees (default 30)")
     lens.add_argument("--orthographic", action="store_true", help="an orthographic camera")
+    p.add_argument("--camera-from", metavar="SCENE", help="the camera of a glTF/GLB scene (its first perspective "
+                   "camera; the mesh may be the same file) instead of --azimuth, --elevation and --fov")
     p.add_argument("--lines", default="silhouette,boundary,crease",
                    help=f"kinds of line, comma-separated from {','.join(KINDS)} (default silhouette,boundary,crease)")
     p.add_argument("--crease-angle", type=finite, default=60.0, help="dihedral angle past which an edge is a crease "
@@ -107,6 +109,8 @@ def _check(args: argparse.Namespace) -> None:
         raise ValueError(f"--frames {args.frames}: expected 1..3600")
     if args.frames > 1 and not args.orbit:
         raise ValueError("--frames N needs --orbit")
+    if args.camera_from and (args.orbit or args.orthographic):
+        raise ValueError("--camera-from takes the scene's camera: not with --orbit or --orthographic")
     if os.path.splitext(args.output)[1].lower() not in OUTPUTS:
         raise ValueError(f"{args.output}: the output must be a {' or '.join(OUTPUTS)} file")
 
@@ -131,6 +135,7 @@ def run(args: argparse.Namespace) -> int:
     from ..files import check_writable
     from .draw import View, draw, load_mesh
     from .lines import prepare
+    from .meshfile import scene_camera
     from .vector import write_svg
 
     _check(args)
@@ -147,9 +152,10 @@ def run(args: argparse.Namespace) -> int:
     for note in warnings + surface.notes:
         print(f"brushwork: warning: {args.mesh}: {note}", file=sys.stderr)
     fov = 0.0 if args.orthographic else args.fov
+    pose = scene_camera(args.camera_from) if args.camera_from else None
     frames = []
     for k in range(args.frames):
-        view = View(args.azimuth + 360.0 * k / args.frames, args.elevation, fov, (args.size, args.size))
+        view = View(args.azimuth + 360.0 * k / args.frames, args.elevation, fov, (args.size, args.size), pose)
         drawing = draw(surface, view, style, kinds, args.crease_angle, args.hidden, vector=svg)
         drawing.stats["seconds"]["load"] = load_s if k == 0 else 0.0
         path = numbered(args.output, k, args.frames)

@@ -24,11 +24,18 @@ OCCLUSION_DEPTH = 0.02      # of the mesh's diagonal: how much nearer a line mus
 @dataclass
 class View:
     """Where the camera is: azimuth and elevation (degrees) about the mesh's y axis, the
-    vertical field of view (0: orthographic), and the image size (W, H) px."""
+    vertical field of view (0: orthographic), and the image size (W, H) px; or a scene's own
+    camera (its camera-to-world matrix and vertical field of view, meshfile.scene_camera)."""
     azimuth: float = 30.0
     elevation: float = 20.0
     fov_deg: float = 30.0
     size: tuple = (1024, 1024)
+    scene_camera: tuple | None = None
+
+    def camera(self, vertices: np.ndarray) -> cam.Camera:
+        if self.scene_camera is not None:
+            return cam.from_pose(vertices, self.size, *self.scene_camera)
+        return cam.fit(vertices, self.size, self.azimuth, self.elevation, self.fov_deg)
 
 
 @dataclass
@@ -124,7 +131,7 @@ def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KIN
     with `vector`, the drawing's shapes carry each stroke's outline."""
     times = {}
     t = time.perf_counter()
-    camera = cam.fit(surface.vertices, view.size, view.azimuth, view.elevation, view.fov_deg)
+    camera = view.camera(surface.vertices)
     lines = ln.extract(surface, camera, kinds, crease_deg)
     times["lines"] = time.perf_counter() - t
     t = time.perf_counter()

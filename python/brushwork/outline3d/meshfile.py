@@ -127,3 +127,23 @@ def load_mesh(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, list]:
     if faces.ndim != 2 or faces.shape[1] != 3 or len(faces) == 0:
         raise ValueError(f"{path}: no triangles in the file")
     return vertices, faces, _missing_files(path) + notes + catch.messages
+
+
+def scene_camera(path: str | os.PathLike) -> tuple[np.ndarray, float]:
+    """The first perspective camera of a glTF/GLB scene, as trimesh reads it: its camera-to-world
+    (4, 4) matrix and its vertical field of view (degrees).  ValueError when there is none."""
+    import trimesh
+
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise ValueError(f"--camera-from {path}: no such file")
+    try:
+        scene = trimesh.load(path, force="scene")
+    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault, said in one line
+        raise ValueError(f"--camera-from {path}: not a readable scene ({type(err).__name__})") from None
+    if not scene.has_camera:
+        raise ValueError(f"--camera-from {path}: the scene has no camera (glTF/GLB perspective cameras are read)")
+    yfov = float(scene.camera.fov[1])
+    if not 0.0 < yfov < 180.0:
+        raise ValueError(f"--camera-from {path}: the camera's field of view {yfov:g} is not 0..180 degrees")
+    return np.asarray(scene.camera_transform, dtype=float), yfov
