@@ -56,6 +56,8 @@ class StrokeTimes:
 class OutlineDrawer:
     """Draws chains (px, y down, on a W x H image) with one brush on one paper."""
 
+    _calibrations: dict = {}     # (preset, tilt, step, press) -> the calibration's presses and widths
+
     def __init__(self, style: OutlineStyle, size: tuple[int, int]):
         self.style = style
         w, h = size
@@ -66,7 +68,10 @@ class OutlineDrawer:
         self.times = StrokeTimes()
         self._since_dip = None
         self.offset = np.zeros(2)      # mm, root - footprint centre along and across the heading
-        self.presses, self.widths = self._calibrate()
+        key = (style.preset, style.tilt_deg, style.step_mm, style.press)
+        if key not in self._calibrations:
+            self._calibrations[key] = self._calibrate()
+        self.presses, self.widths = self._calibrations[key]
         self._rehearse()
 
     def _dip(self, alpha: float, length_mm: float) -> None:
