@@ -433,3 +433,22 @@ def test_camera_from_a_gltf_scene(tmp_path, capsys):
     assert main(["outline", str(src), "-o", str(out), "--camera-from", str(bare)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no camera" in err
+
+
+def test_a_line_thins_where_it_runs_behind_a_nearer_one():
+    """A small ball half behind a big one (an ear behind a head): its outline's width falls by
+    the style's occlusion thinning where it meets the big ball's outline, not away from it."""
+    from brushwork.outline3d.draw import weights
+
+    big = trimesh.creation.icosphere(subdivisions=3)
+    small = trimesh.creation.icosphere(subdivisions=3, radius=0.4).apply_translation([1.1, 0.6, -0.8])
+    mesh = trimesh.util.concatenate([big, small])
+    style = OutlineStyle.load("baimiao")
+    d = draw(prepare(mesh.vertices, mesh.faces), View(0.0, 0.0, 30.0, (512, 512)), style, ("silhouette",))
+    chains = [c for c in d.chains if c.visible]
+    near_eye = [float(np.mean(d.camera.eye_distance(c.depth))) for c in chains]
+    w = weights(chains, d.camera, style, 3.0)
+    head, ear = int(np.argmin(near_eye)), int(np.argmax(near_eye))
+    gap = np.min(np.linalg.norm(chains[ear].points[:, None, :] - chains[head].points[None, ::3, :], axis=2), axis=1)
+    assert w[ear][gap < 2.0].min() <= 1.0 - 0.9 * style.occlusion_thinning
+    assert np.allclose(w[ear][gap > 0.03 * np.hypot(512, 512)], 1.0) and np.allclose(w[head], 1.0)
