@@ -1,5 +1,5 @@
-"""Chains as brush motions: the press profile of a stroke, line widths as presses, and the
-drawing.  The style's fields are in `style` (OutlineStyle)."""
+"""Chains as brush motions: a stroke's width and press profiles, line widths made presses by a
+calibration of the brush, and the drawing.  The style's fields are in `style` (OutlineStyle)."""
 from __future__ import annotations
 
 import time
