@@ -75,7 +75,7 @@ def _behind(chains: list, camera, size: tuple, margin: float) -> list:
     """Per chain (k,) in 0..1: how near (in the image) each point lies to a visible line that is
     nearer the eye than it by `margin` mesh units, 1 on it, 0 at OCCLUSION_REACH of the image
     diagonal and beyond (the visible lines' eye distances drawn into an image, its minimum
-    taken over discs of OCCLUSION_STEPS radii up to that reach)."""
+    taken over squares of OCCLUSION_STEPS half-sides up to that reach: separable, a few ms)."""
     import cv2
 
     w, h = size
@@ -87,7 +87,7 @@ def _behind(chains: list, camera, size: tuple, margin: float) -> list:
             np.minimum.at(near, (ix[:, 1], ix[:, 0]), d)
     reach = OCCLUSION_REACH * math.hypot(w, h)
     radii = [reach * (k + 1) / OCCLUSION_STEPS for k in range(OCCLUSION_STEPS)]
-    mins = [cv2.erode(near, cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * int(r) + 1,) * 2)) for r in radii]
+    mins = [cv2.erode(near, np.ones((2 * int(r) + 1,) * 2, np.uint8)) for r in radii]
     out = []
     for c in chains:
         ix = np.clip(np.round(c.points).astype(int), 0, [w - 1, h - 1])
