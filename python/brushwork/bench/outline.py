@@ -1,10 +1,13 @@
-"""`brushwork bench outline`: the 3-D outlines measured on a folder of meshes, 8 views each.
+"""`brushwork bench outline`: the 3-D outlines measured on generated low-poly meshes, a large
+procedural one and a folder of meshes (--meshes), 8 views each.
 
 Per view, against the depth buffer of the mesh (the truth the drawing is judged by):
 - silhouette recall: of the pixels on the boundary of the mesh's projected area (outer outline
   and holes), the share with ink within TOL of the image size;
 - precision: of the ink pixels, the share within TOL of a true visible line (the projected
   area's boundary, a jump in depth, a visible crease or mesh boundary);
+- the silhouettes' median ink width over the creases' (twice the ink's distance to its edge on
+  the chains' centre lines), where both are drawn;
 - the median visible chain's length over the image diagonal, chains and strokes;
 - seconds per phase (load, lines, visibility, chaining, brush, deposit).
 Orbit coherence: over an orbit of ORBIT_VIEWS views, the ink of each view carried into the next
@@ -14,8 +17,9 @@ the F-measure at TOL (as for boundaries in image segmentation).  A contour slide
 surface as the view turns (10 degrees move a sphere's contour points 1.5% of its radius inward),
 which the strict IoU counts against it and the F-measure forgives; chains that appear or vanish
 from one view to the next lower both.
-A procedural bumpy torus of SYNTH_FACES faces, written to a temporary PLY, is measured too (the
-time target of a large mesh).
+The low-poly set (`lowpoly_set`: icospheres, a coarse torus, boxes, a faceted head) and a
+procedural bumpy torus of SYNTH_FACES faces (the time target of a large mesh), written to
+temporary PLYs, are measured too.
 """
 from __future__ import annotations
 
@@ -39,12 +43,13 @@ SYNTH_FACES = 70000
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--meshes", metavar="DIR", default="/work/shared/data/meshes",
-                   help="folder of meshes to measure (default /work/shared/data/meshes)")
+    p.add_argument("--meshes", metavar="DIR", help="a folder of meshes to measure too (default: only the generated "
+                   "low-poly set and the procedural torus)")
     p.add_argument("--size", type=int, default=1024, help="image side in px (default 1024)")
     p.add_argument("--style", default="baimiao", help="outline style (default baimiao)")
     p.add_argument("--orbit-size", type=int, default=512, help="image side of the orbit views (default 512)")
     p.add_argument("--no-synthetic", action="store_true", help="skip the 70,000-face procedural mesh")
+    p.add_argument("--no-lowpoly", action="store_true", help="skip the generated low-poly meshes")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
 
 
@@ -82,6 +87,22 @@ def truth(drawing) -> tuple[np.ndarray, np.ndarray]:
     return rim, lines | canvas.astype(bool)
 
 
+def kind_widths(drawing) -> dict:
+    """The median ink width (px) along the visible chains of each kind drawn: twice the ink's
+    distance to its edge at the chain's points (its centre line)."""
+    import cv2
+
+    ink = (drawing.paper.ink() > INK).astype(np.uint8)
+    half = cv2.distanceTransform(ink, cv2.DIST_L2, 5)
+    h, w = ink.shape
+    out = {}
+    for kind in sorted({c.kind for c in drawing.chains if c.visible}):
+        pts = np.vstack([c.points for c in drawing.chains if c.visible and c.kind == kind])
+        ix = np.clip(np.round(pts - 0.5).astype(int), 0, [w - 1, h - 1])
+        out[kind] = float(2.0 * np.median(half[ix[:, 1], ix[:, 0]]))
+    return out
+
+
 def score(drawing) -> dict:
     """Recall, precision and chain figures of one view."""
     size = drawing.camera.size
@@ -92,7 +113,10 @@ def score(drawing) -> dict:
     recall = float(np.mean(to_ink[rim] <= tol)) if rim.any() else 1.0
     precision = float(np.mean(to_line[ink] <= tol)) if ink.any() else 0.0
     s = drawing.stats
+    widths = kind_widths(drawing)
+    crease = widths.get(2, 0.0)
     return {"recall": recall, "precision": precision, "median_chain": s["median_chain_over_diagonal"],
+            "outline_over_crease": widths.get(0, 0.0) / crease if crease else float("nan"),
             "chains": s["chains"], "strokes": s["strokes"], **{k: v for k, v in s["seconds"].items()}}
 
 
@@ -147,11 +171,54 @@ def bumpy_torus(faces: int = SYNTH_FACES):
     return mesh
 
 
-def _mesh_files(folder: str) -> list[Path]:
-    root = Path(folder)
-    if not root.is_dir():
-        raise ValueError(f"--meshes {folder}: no such folder")
-    return sorted(p for p in root.iterdir() if p.suffix.lower() in SUFFIXES)
+def _bevelled_box():
+    """A box of sides 2 x 1.4 x 1 whose edges are rounded in a few flat bevels: a subdivided cube
+    pushed onto a sphere, scaled past the box and clipped to it (flat sides, faceted corners)."""
+    import trimesh
+
+    cube = trimesh.creation.box((2.0, 2.0, 2.0)).subdivide().subdivide()
+    v = cube.vertices / np.linalg.norm(cube.vertices, axis=1, keepdims=True)
+    return trimesh.Trimesh(np.clip(1.25 * v, -1.0, 1.0) * [1.0, 0.7, 0.5], cube.faces)
+
+
+def _faceted_head():
+    """A low-poly head of a few hundred faces in the manner of Blender's monkey: a coarse
+    sphere, two ears and a snout as separate shells through it, eyes of 20 faces, and one
+    non-manifold edge (a face hidden inside the head on one of its edges)."""
+    import trimesh
+
+    head = trimesh.creation.uv_sphere(1.0, count=[10, 12])
+    head.apply_scale([1.0, 0.95, 0.9])
+    parts = [head]
+    for side in (-1.0, 1.0):
+        ear = trimesh.creation.icosphere(subdivisions=1, radius=1.0)
+        ear.apply_scale([0.12, 0.45, 0.38])
+        ear.apply_translation([side * 1.05, 0.25, -0.1])
+        eye = trimesh.creation.icosphere(subdivisions=0, radius=0.22)
+        eye.apply_translation([side * 0.35, 0.25, 0.86])
+        parts += [ear, eye]
+    snout = trimesh.creation.capsule(height=0.5, radius=0.35, count=[6, 6])
+    snout.apply_scale([1.3, 0.8, 1.0])
+    snout.apply_translation([0.0, -0.3, 0.7])
+    parts.append(snout)
+    mesh = trimesh.util.concatenate(parts)
+    a, b = head.faces[0, :2]
+    centre = len(mesh.vertices)
+    return trimesh.Trimesh(np.vstack([mesh.vertices, [[0.0, 0.0, 0.0]]]),
+                           np.vstack([mesh.faces, [[b, a, centre]]]), process=False)
+
+
+def lowpoly_set() -> dict:
+    """Faceted and low-poly test meshes by name (trimesh objects): icospheres of subdivision
+    0..2, a torus of few sections, a box, a bevelled box and a faceted head."""
+    import trimesh
+
+    meshes = {f"icosphere{k}": trimesh.creation.icosphere(subdivisions=k) for k in range(3)}
+    meshes["torus_lowpoly"] = trimesh.creation.torus(1.0, 0.4, major_sections=12, minor_sections=6)
+    meshes["box"] = trimesh.creation.box((1.0, 1.4, 0.8))
+    meshes["bevelled_box"] = _bevelled_box()
+    meshes["faceted_head"] = _faceted_head()
+    return meshes
 
 
 def _measure(path: Path, args, progress) -> dict:
@@ -168,11 +235,13 @@ def _measure(path: Path, args, progress) -> dict:
     orbit = [draw(surface, View(360.0 * k / ORBIT_VIEWS, 20.0, 30.0, (args.orbit_size,) * 2), style)
              for k in range(ORBIT_VIEWS)]
     iou, f = zip(*[coherence(orbit[k], orbit[(k + 1) % ORBIT_VIEWS]) for k in range(ORBIT_VIEWS)])
-    mean = {k: float(np.mean([r[k] for r in rows])) for k in rows[0]}
+    mean = {k: float(np.nanmean([r[k] for r in rows])) if any(np.isfinite(r[k]) for r in rows) else float("nan")
+            for k in rows[0]}
     phases = ("lines", "visibility", "chaining", "brush", "deposit")
     out = {"mesh": path.name, "faces": len(surface.faces), "recall": mean["recall"],
            "recall_min": min(r["recall"] for r in rows), "precision": mean["precision"],
            "precision_min": min(r["precision"] for r in rows), "median_chain": mean["median_chain"],
+           "outline_over_crease": mean["outline_over_crease"],
            "chains": mean["chains"], "strokes": mean["strokes"], "load": load,
            **{p: mean[p] for p in phases}, "seconds": load + sum(mean[p] for p in phases),
            "orbit_iou": float(np.mean(iou)), "orbit_iou_min": float(np.min(iou)), "orbit_f": float(np.mean(f)),
@@ -184,19 +253,25 @@ def _measure(path: Path, args, progress) -> dict:
 
 
 def run(args, progress=None) -> dict:
-    files = _mesh_files(args.meshes)
+    from ..outline3d.meshfile import mesh_files
+
+    files = mesh_files(args.meshes) if args.meshes else []
     results = [_measure(p, args, progress) for p in files]
-    if not args.no_synthetic:
-        with tempfile.TemporaryDirectory() as tmp:
-            path = Path(tmp) / f"bumpy_torus_{SYNTH_FACES}.ply"
-            bumpy_torus().export(path)
+    with tempfile.TemporaryDirectory() as tmp:
+        made = {} if args.no_lowpoly else lowpoly_set()
+        if not args.no_synthetic:
+            made[f"bumpy_torus_{SYNTH_FACES}"] = bumpy_torus()
+        for name, mesh in made.items():
+            path = Path(tmp) / f"{name}.ply"
+            mesh.export(path)
             results.append(_measure(path, args, progress))
     return {"size": args.size, "style": args.style, "views": VIEWS, "orbit_views": ORBIT_VIEWS, "tol": TOL,
             "meshes": results}
 
 
 def table(result: dict) -> str:
-    cols = ["mesh", "faces", "recall", "recall_min", "precision", "precision_min", "median_chain", "chains",
+    cols = ["mesh", "faces", "recall", "recall_min", "precision", "precision_min", "outline_over_crease",
+            "median_chain", "chains",
             "strokes", "seconds", "load", "lines", "visibility", "chaining", "brush", "deposit", "orbit_iou",
             "orbit_iou_min", "orbit_f", "orbit_f_min"]
     head = (f"3-D outlines, style {result['style']}, {result['size']} px, {result['views']} views per mesh "

@@ -2,12 +2,13 @@
 
 camera (the view and its pixel matrix), lines (contours, boundaries, creases, suggestive
 contours), visibility (the depth buffer through the EGL context), chains (linking, visibility
-runs, smoothing), strokes (styles and brush motions), draw (the whole pipeline).
+runs, smoothing), style (the outline style's fields), strokes (brush motions), draw (the whole
+pipeline), vector (strokes as SVG paths).
 """
 from .camera import Camera, fit
 from .draw import Drawing, View, draw, load_mesh
 from .lines import KINDS, MeshError, Surface, prepare
-from .strokes import OutlineStyle
+from .style import OutlineStyle
 
 __all__ = ["Camera", "Drawing", "KINDS", "MeshError", "OutlineStyle", "Surface", "View", "draw", "fit",
            "load_mesh", "prepare"]

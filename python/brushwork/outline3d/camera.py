@@ -155,7 +155,35 @@ def fit(vertices: np.ndarray, size: tuple[int, int], azimuth_deg: float = 30.0, 
     matrix = _centre_on(_to_pixels(width, height) @ proj @ view, pts, width, height, margin)
     cam = Camera(eye=eye, target=centre, fov_deg=max(float(fov_deg), 0.0), matrix=matrix, size=(width, height),
                  near=near, far=far, px_per_unit=1.0)
-    # pixels per mesh unit at the target: the image of a step of one radius across the view
-    a, b = cam.project(np.stack([centre, centre + radius * view[0, :3]]))
     return Camera(eye=eye, target=centre, fov_deg=cam.fov_deg, matrix=matrix, size=(width, height),
-                  near=near, far=far, px_per_unit=float(np.linalg.norm(b[:2] - a[:2])) / radius)
+                  near=near, far=far, px_per_unit=_pixels_per_unit(cam, radius, view[0, :3]))
+
+
+def _pixels_per_unit(cam: Camera, radius: float, across: np.ndarray) -> float:
+    """Pixels per mesh unit at the target: the image of a step of one radius across the view."""
+    a, b = cam.project(np.stack([cam.target, cam.target + radius * across]))
+    return float(np.linalg.norm(b[:2] - a[:2])) / radius
+
+
+def from_pose(vertices: np.ndarray, size: tuple[int, int], to_world: np.ndarray, yfov_deg: float) -> Camera:
+    """The camera of a scene file: `to_world` (4, 4) maps the camera's frame (looking down its -z,
+    y up) to the mesh's, `yfov_deg` its vertical field of view; the depth range spans the mesh.
+    ValueError when the mesh lies wholly behind it."""
+    pts = np.asarray(vertices, dtype=float)
+    width, height = int(size[0]), int(size[1])
+    eye, forward, up = to_world[:3, 3], -to_world[:3, 2], to_world[:3, 1]
+    forward = forward / np.linalg.norm(forward)
+    centre = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+    radius = max(float(np.max(np.linalg.norm(pts - centre, axis=1))), 1e-12)
+    ahead = (pts - eye) @ forward
+    if ahead.max() <= 0.0:
+        raise ValueError("the mesh lies behind the scene's camera")
+    far = float(ahead.max()) + (NEAR_SLACK - 1.0) * radius
+    near = max(float(ahead.min()) - (NEAR_SLACK - 1.0) * radius, 1e-3 * far)
+    target = eye + forward * max(float((centre - eye) @ forward), near)
+    view = _look_at(eye, target, up / np.linalg.norm(up))
+    matrix = _to_pixels(width, height) @ _projection(yfov_deg, near, far, radius) @ view
+    cam = Camera(eye=eye, target=target, fov_deg=float(yfov_deg), matrix=matrix, size=(width, height),
+                 near=near, far=far, px_per_unit=1.0)
+    return Camera(eye=eye, target=target, fov_deg=float(yfov_deg), matrix=matrix, size=(width, height),
+                  near=near, far=far, px_per_unit=_pixels_per_unit(cam, radius, view[0, :3]))

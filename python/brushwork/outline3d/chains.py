@@ -2,7 +2,9 @@
 
 Linking walks the graph whose nodes are the lines' points: through a node where a line of one
 kind simply continues, and at a junction on along the segment that turns least (direction
-continuity, in the image), ending when every way on turns more than MAX_TURN_DEG.  Each chain
+continuity, in the image), ending when every way on turns more than MAX_TURN_DEG; a line that
+simply continues (a node of two segments: a polygon's corner) is followed round turns up to
+CORNER_TURN_DEG.  Each chain
 is then resampled about once per pixel, its samples tested for visibility, and cut into runs of
 one visibility (a closed chain restarted where its visibility changes); pieces whose ends meet
 again, running on in one direction, are joined; runs shorter than a fraction of the image
@@ -16,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 MAX_TURN_DEG = 60.0    # a junction is passed straight on only when the way on turns less
+CORNER_TURN_DEG = 135.0  # a line of one kind runs on round a corner that turns less
 SAMPLE_PX = 1.0        # spacing of the samples along a chain
 GAP_PX = 3.0           # visibility changes shorter than this along a chain are ignored
 JOIN_PX = 2.5          # chain ends closer than this may be joined into one chain
@@ -70,7 +73,7 @@ def link(xy: np.ndarray, segments: np.ndarray, kinds: np.ndarray) -> list[tuple[
             a, b = seg_list[seg]
             prev, node = node, (b if a == node else a)
             nodes.append(node)
-            best, best_turn = -1, MAX_TURN_DEG
+            best, best_turn = -1, CORNER_TURN_DEG if degree[node] == 2 else MAX_TURN_DEG
             for s in order[start[node]:start[node + 1]]:
                 if used[s] or kind_list[s] != kind_list[seg]:
                     continue

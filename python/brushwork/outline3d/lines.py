@@ -1,12 +1,17 @@
 """Feature lines of a triangle mesh seen from a camera: occluding contours of the smooth surface,
 boundaries, creases and (optionally) suggestive contours.
 
-Contours are the zero set of g = n . v interpolated linearly over each face from the vertex
-normals n and the unit vectors v toward the eye (Bénard & Hertzmann 2019, "interpolated
+Contours are the zero set of g = n . v interpolated linearly over each face from the normals n
+at its corners and the unit vectors v toward the eye (Bénard & Hertzmann 2019, "interpolated
 contours"), on the mesh welded across texture seams, so they run smooth and unbroken across
-coarse faces.  Suggestive contours are zeros of the radial curvature, taken as zeros of
-D_w g (the derivative of g along w, the view vector projected on the tangent plane) where it
-rises along w, on front faces (DeCarlo et al. 2003).
+coarse faces.  A facet edge is one whose faces part so far that a smooth curve through it would
+miss the flat faces' outline by more than FACET_SAG_PX; at a vertex on one, each corner takes its
+face's own normal, elsewhere a corner's normal is the mean of the faces around its vertex.  On a
+faceted or low-poly surface g thus jumps across the facet edges, and where its two faces lie on
+either side of the zero set the contour runs along the edge itself (the outline of the polygons,
+as a flat-shaded rendering shows it).  Suggestive contours are zeros of the radial curvature,
+taken as zeros of D_w g (the derivative of g along w, the view vector projected on the tangent
+plane) where it rises along w, on front faces (DeCarlo et al. 2003).
 
 Lines come out as points (P, 3) in mesh units and segments (S, 2) of point indices with a kind
 per segment; segments of one kind share points where they meet (an edge's crossing, a vertex),
@@ -25,6 +30,8 @@ MAX_COORDINATE = 1e100      # larger coordinates overflow the squares of lengths
 WELD = 1e-6                 # vertices closer than this fraction of the bounding diagonal are one
 SUGGESTIVE_RISE = 0.02      # D_w(D_w g) per unit of g's range over the diagonal below which a zero is dropped
 SUGGESTIVE_GRAZING = 0.5    # suggestive contours only where g = n . v is below this
+FACET_SAG_PX = 0.75         # px a smooth curve may bulge past the chord of a facet edge before the edge is kept
+FACET_MIN_DEG = 8.0         # faces meeting at less than this are never a facet edge
 
 
 class MeshError(ValueError):
@@ -198,30 +205,161 @@ class Lines:
                      np.concatenate([self.kinds, other.kinds]))
 
 
+def _nonzero(values: np.ndarray) -> np.ndarray:
+    return np.where(values == 0.0, 1e-12, values)          # no corner exactly on the zero set
+
+
+def _side_crossings(surface: Surface, gc: np.ndarray, labels: np.ndarray, faces: np.ndarray):
+    """Where the corner values gc (m, 3) change sign along the sides of `faces`: per crossing its
+    key (edge, label at the edge's first vertex, label at its second), its point, and the face
+    and side it lies on.  Faces whose corners share labels at both ends of an edge share its
+    crossing; a facet edge has one crossing on each side."""
+    f = faces[:, None].repeat(3, axis=1)
+    k = np.arange(3)[None, :].repeat(len(faces), axis=0)
+    sign = gc[faces] > 0
+    hit = sign != np.roll(sign, -1, axis=1)                # side k: corner k -> k+1
+    f, k = f[hit], k[hit]
+    e = surface.face_edges[f, k]
+    a = surface.faces[f, k]
+    lo_first = a == surface.edges[e, 0]
+    ga, gb = gc[f, k], gc[f, (k + 1) % 3]
+    la, lb = labels[f, k], labels[f, (k + 1) % 3]
+    g0, g1 = np.where(lo_first, ga, gb), np.where(lo_first, gb, ga)
+    l0, l1 = np.where(lo_first, la, lb), np.where(lo_first, lb, la)
+    t = (g0 / (g0 - g1))[:, None]
+    v = surface.vertices
+    points = (1.0 - t) * v[surface.edges[e, 0]] + t * v[surface.edges[e, 1]]
+    return np.column_stack([np.zeros_like(e), e, l0, l1]), points, f
+
+
+def _keyed(keys: np.ndarray, points: np.ndarray, pairs: np.ndarray, kind: int) -> Lines:
+    """Lines from segments given as pairs of rows into `keys` (one point per distinct key)."""
+    if len(pairs) == 0:
+        return Lines.empty()
+    used, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
+    seg = inverse.reshape(-1)[pairs]
+    seg = seg[seg[:, 0] != seg[:, 1]]
+    return Lines(points[first], seg, np.full(len(seg), kind, dtype=np.int64))
+
+
+def corner_zero_set(surface: Surface, gc: np.ndarray, labels: np.ndarray, faces: np.ndarray) -> tuple:
+    """The zero set of corner values gc (m, 3), linear over each face listed in `faces`: keys,
+    points and (s, 2) rows pairing the two crossings of each face whose corners change sign."""
+    keys, points, owner = _side_crossings(surface, _nonzero(gc), labels, faces)
+    # a face's corners change sign on none or on two of its sides
+    return keys, points, np.argsort(owner, kind="stable").reshape(-1, 2)
+
+
 def zero_set(surface: Surface, values: np.ndarray, faces: np.ndarray, kind: int) -> Lines:
     """The zero set of (n,) per-vertex `values`, linear over each face listed in `faces` (indices):
     one segment per face whose corners change sign, between the crossings on its two changing
     sides; a crossing is one point per edge, shared by the faces on both sides."""
-    g = np.where(values == 0.0, 1e-12, values)            # no corner exactly on the zero set
-    f = surface.faces[faces]
-    sign = g[f] > 0                                        # (k, 3)
-    crosses = sign != np.roll(sign, -1, axis=1)            # side k: corner k -> k+1
-    hit = crosses.sum(axis=1) == 2
-    f, crosses, fe = f[hit], crosses[hit], surface.face_edges[faces[hit]]
-    if len(f) == 0:
-        return Lines.empty()
-    edge_ids = fe[crosses].reshape(-1, 2)                  # the two crossing sides of each face
-    used, seg = np.unique(edge_ids, return_inverse=True)
-    a, b = surface.edges[used, 0], surface.edges[used, 1]
-    t = (g[a] / (g[a] - g[b]))[:, None]
-    points = (1.0 - t) * surface.vertices[a] + t * surface.vertices[b]
-    return Lines(points, seg.reshape(-1, 2), np.full(len(edge_ids), kind, dtype=np.int64))
+    f = surface.faces
+    keys, points, rows = corner_zero_set(surface, values[f], f, np.asarray(faces, dtype=np.int64))
+    return _keyed(keys, points, rows, kind)
+
+
+def facet_edges(surface: Surface, camera) -> np.ndarray:
+    """(e,) bool: the manifold edges whose faces part by an angle theta over FACET_MIN_DEG and
+    along which a smooth curve would bulge past the edge by more than FACET_SAG_PX (an arc of
+    angle theta over a chord of L px bulges L theta / 8)."""
+    ef = surface.edge_faces
+    two = ef[:, 0] >= 0
+    cos = np.ones(len(ef))
+    cos[two] = np.einsum("ij,ij->i", surface.face_normals[ef[two, 0]], surface.face_normals[ef[two, 1]])
+    theta = np.arccos(np.clip(cos, -1.0, 1.0))
+    a, b = surface.vertices[surface.edges[:, 0]], surface.vertices[surface.edges[:, 1]]
+    pixel = camera.pixel_size(np.abs(camera.distance(0.5 * (a + b))))
+    length_px = np.linalg.norm(a - b, axis=1) / np.maximum(pixel, 1e-300)
+    return two & (theta > math.radians(FACET_MIN_DEG)) & (length_px * theta / 8.0 > FACET_SAG_PX)
+
+
+def _corner_ids(surface: Surface, faces: np.ndarray, vertex: np.ndarray) -> np.ndarray:
+    """3 f + k of the corner of each face f at `vertex`."""
+    return 3 * faces + np.argmax(surface.faces[faces] == vertex[:, None], axis=1)
+
+
+def corner_labels(surface: Surface, facet: np.ndarray) -> np.ndarray:
+    """(m, 3) a label per face corner, shared by the corners of one vertex whose faces connect
+    around it across manifold edges that are not in `facet` (smoothing groups); every corner of
+    a vertex on a facet edge keeps its face's own normal (a smooth contour there would run
+    on from flat faces whose outline it misses)."""
+    ef, edges = surface.edge_faces, surface.edges
+    on_facet = np.zeros(len(surface.vertices), dtype=bool)
+    on_facet[edges[facet].reshape(-1)] = True
+    e = np.flatnonzero((ef[:, 0] >= 0) & ~facet)
+    ends = [e[~on_facet[edges[e, j]]] for j in (0, 1)]
+    c1 = np.concatenate([_corner_ids(surface, ef[k, 0], edges[k, j]) for j, k in enumerate(ends)])
+    c2 = np.concatenate([_corner_ids(surface, ef[k, 1], edges[k, j]) for j, k in enumerate(ends)])
+    labels = np.arange(3 * len(surface.faces))
+    while True:                                  # the least id of each group, spread along the pairs
+        new = labels.copy()
+        np.minimum.at(new, c1, labels[c2])
+        np.minimum.at(new, c2, labels[c1])
+        new = new[new]
+        if np.array_equal(new, labels):
+            return labels.reshape(-1, 3)
+        labels = new
+
+
+def corner_normals(surface: Surface, labels: np.ndarray) -> np.ndarray:
+    """(m, 3, 3) unit normal at each face corner: the area-weighted mean of its group's faces."""
+    v, f = surface.vertices, surface.faces
+    cross = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])       # twice the area long
+    total = np.zeros((labels.size, 3))
+    np.add.at(total, labels.reshape(-1), np.repeat(cross / max(float(np.abs(cross).max()), 1e-300), 3, axis=0))
+    return _unit(total[labels.reshape(-1)]).reshape(-1, 3, 3)
+
+
+def _facet_runs(g0: np.ndarray, g1: np.ndarray) -> list[tuple[float, float, int, int]]:
+    """Along an edge (t from 0 to 1) with the values g0 = (at t 0, at t 1) on one face and g1 on
+    the other: the runs (t0, t1, end0, end1) where the two have opposite signs; an end is 0 for
+    the edge's first vertex, 1 for its second, 2 and 3 for the crossing of g0, g1."""
+    cuts = [(0.0, 0), (1.0, 1)]
+    for code, g in ((2, g0), (3, g1)):
+        if (g[0] > 0) != (g[1] > 0):
+            cuts.append((g[0] / (g[0] - g[1]), code))
+    cuts.sort()
+    runs = []
+    for (t0, a), (t1, b) in zip(cuts[:-1], cuts[1:]):
+        mid = 0.5 * (t0 + t1)
+        if t1 > t0 and (g0[0] + mid * (g0[1] - g0[0])) * (g1[0] + mid * (g1[1] - g1[0])) < 0:
+            runs.append((t0, t1, a, b))
+    return runs
+
+
+def along_facets(surface: Surface, gc: np.ndarray, labels: np.ndarray) -> tuple:
+    """The contour where it runs along edges: manifold edges whose two faces carry other corner
+    labels (so other values of g) and where their g differ in sign.  Keys, points and rows of
+    segments, in the keys of `corner_zero_set` for the crossings and (1, vertex, 0, 0) for the
+    edges' ends."""
+    ef, edges, v = surface.edge_faces, surface.edges, surface.vertices
+    e = np.flatnonzero(ef[:, 0] >= 0)
+    ends = [[_corner_ids(surface, ef[e, side], edges[e, j]) for j in (0, 1)] for side in (0, 1)]
+    lab, g = labels.reshape(-1), gc.reshape(-1)
+    split = (lab[ends[0][0]] != lab[ends[1][0]]) | (lab[ends[0][1]] != lab[ends[1][1]])
+    keys, points, rows = [], [], []
+    for i in np.flatnonzero(split):
+        side_g = [(g[ends[s][0][i]], g[ends[s][1][i]]) for s in (0, 1)]
+        a, b = edges[e[i]]
+        code_key = [(1, a, 0, 0), (1, b, 0, 0)] + [(0, e[i], lab[ends[s][0][i]], lab[ends[s][1][i]]) for s in (0, 1)]
+        for t0, t1, c0, c1 in _facet_runs(*side_g):
+            rows.append((len(keys), len(keys) + 1))
+            keys += [code_key[c0], code_key[c1]]
+            points += [(1.0 - t0) * v[a] + t0 * v[b], (1.0 - t1) * v[a] + t1 * v[b]]
+    return (np.array(keys, dtype=np.int64).reshape(-1, 4), np.array(points, dtype=float).reshape(-1, 3),
+            np.array(rows, dtype=np.int64).reshape(-1, 2))
 
 
 def contours(surface: Surface, camera) -> Lines:
-    """Occluding contours: zeros of g = n . v over every face."""
-    g = np.einsum("ij,ij->i", surface.normals, camera.to_eye(surface.vertices))
-    return zero_set(surface, g, np.arange(len(surface.faces)), SILHOUETTE)
+    """Occluding contours: zeros of g = n . v over every face, n the corners' normals, and the
+    facet edges whose two faces' g differ in sign."""
+    labels = corner_labels(surface, facet_edges(surface, camera))
+    to_eye = camera.to_eye(surface.vertices)[surface.faces]
+    gc = _nonzero(np.einsum("fkj,fkj->fk", corner_normals(surface, labels), to_eye))
+    keys, points, rows = corner_zero_set(surface, gc, labels, np.arange(len(surface.faces)))
+    k2, p2, r2 = along_facets(surface, gc, labels)
+    return _keyed(np.vstack([keys, k2]), np.vstack([points, p2]), np.vstack([rows, r2 + len(keys)]), SILHOUETTE)
 
 
 def _edge_lines(surface: Surface, mask: np.ndarray, kind: int) -> Lines:
@@ -236,13 +374,19 @@ def boundaries(surface: Surface) -> Lines:
     return _edge_lines(surface, surface.edge_count == 1, BOUNDARY)
 
 
-def creases(surface: Surface, angle_deg: float) -> Lines:
-    """Manifold edges whose two face normals part by more than `angle_deg`."""
+def creases(surface: Surface, angle_deg: float, camera=None) -> Lines:
+    """Manifold edges whose two face normals part by more than `angle_deg`; with a camera, not
+    those between a face toward it and a face away (the outline runs there)."""
     ef = surface.edge_faces
     two = ef[:, 0] >= 0
     cos = np.ones(len(ef))
     cos[two] = np.einsum("ij,ij->i", surface.face_normals[ef[two, 0]], surface.face_normals[ef[two, 1]])
-    return _edge_lines(surface, two & (cos < math.cos(math.radians(angle_deg))), CREASE)
+    keep = two & (cos < math.cos(math.radians(angle_deg)))
+    if camera is not None:
+        f = surface.faces
+        facing = np.einsum("ij,ij->i", surface.face_normals, camera.to_eye(surface.vertices[f].mean(axis=1))) > 0
+        keep &= facing[ef[:, 0]] == facing[ef[:, 1]]
+    return _edge_lines(surface, keep, CREASE)
 
 
 def _face_gradients(surface: Surface, values: np.ndarray) -> np.ndarray:
@@ -282,8 +426,10 @@ def suggestive(surface: Surface, camera) -> Lines:
 
 def extract(surface: Surface, camera, kinds=("silhouette", "boundary", "crease"), crease_deg: float = 60.0) -> Lines:
     """The feature lines of `kinds` (names from KINDS) seen by `camera`."""
+    outline_camera = camera if "silhouette" in kinds else None
     makers = {"silhouette": lambda: contours(surface, camera), "boundary": lambda: boundaries(surface),
-              "crease": lambda: creases(surface, crease_deg), "suggestive": lambda: suggestive(surface, camera)}
+              "crease": lambda: creases(surface, crease_deg, outline_camera),
+              "suggestive": lambda: suggestive(surface, camera)}
     lines = Lines.empty()
     for name in kinds:
         lines = lines.concat(makers[name]())

@@ -5,10 +5,22 @@ from __future__ import annotations
 
 import logging
 import os
+from pathlib import Path
 
 import numpy as np
 
 SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")    # the formats load_mesh reads
+
+
+def mesh_files(folder) -> list[Path]:
+    """The mesh files of a folder, sorted; ValueError when it is not a folder or holds none."""
+    root = Path(folder)
+    if not root.is_dir():
+        raise ValueError(f"{folder}: no such folder")
+    files = sorted(p for p in root.iterdir() if p.suffix.lower() in SUFFIXES)
+    if not files:
+        raise ValueError(f"{folder}: no mesh files ({', '.join(SUFFIXES)})")
+    return files
 
 
 def _face_indices(tokens: list, n: int) -> list | None:
@@ -135,3 +147,23 @@ def checked_faces(path: str, vertices: np.ndarray, faces: np.ndarray) -> tuple[n
     if len(faces) == 0:
         raise ValueError(f"{path}: no triangle whose vertices are in the file and finite ({'; '.join(notes)})")
     return vertices, faces, notes
+
+
+def scene_camera(path: str | os.PathLike) -> tuple[np.ndarray, float]:
+    """The first perspective camera of a glTF/GLB scene, as trimesh reads it: its camera-to-world
+    (4, 4) matrix and its vertical field of view (degrees).  ValueError when there is none."""
+    import trimesh
+
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise ValueError(f"--camera-from {path}: no such file")
+    try:
+        scene = trimesh.load(path, force="scene")
+    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault, said in one line
+        raise ValueError(f"--camera-from {path}: not a readable scene ({type(err).__name__})") from None
+    if not scene.has_camera:
+        raise ValueError(f"--camera-from {path}: the scene has no camera (glTF/GLB perspective cameras are read)")
+    yfov = float(scene.camera.fov[1])
+    if not 0.0 < yfov < 180.0:
+        raise ValueError(f"--camera-from {path}: the camera's field of view {yfov:g} is not 0..180 degrees")
+    return np.asarray(scene.camera_transform, dtype=float), yfov

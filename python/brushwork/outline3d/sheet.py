@@ -1,18 +1,17 @@
 """A contact sheet of 3-D outlines: every mesh of a folder (rows) in each style (columns).
 
-    python -m brushwork.outline3d.sheet [--meshes DIR] [--styles baimiao,xieyi] [--size N] -o FILE
+    python -m brushwork.outline3d.sheet --meshes DIR [--styles baimiao,xieyi] [--size N] -o FILE
 """
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
 import numpy as np
 
-SUFFIXES = (".obj", ".ply", ".stl", ".off", ".glb", ".gltf")
-DEFAULT_MESHES = os.environ.get("BRUSHWORK_MESHES", "/work/shared/data/meshes")
+from .meshfile import mesh_files
+
 
 
 def contact_sheet(meshes: list, styles: list, path: str, size: int = 512, azimuth: float = 30.0) -> str:
@@ -42,17 +41,13 @@ def contact_sheet(meshes: list, styles: list, path: str, size: int = 512, azimut
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m brushwork.outline3d.sheet", description=__doc__.splitlines()[0])
-    p.add_argument("--meshes", default=DEFAULT_MESHES, help=f"folder of meshes (default {DEFAULT_MESHES}, "
-                                                            "or $BRUSHWORK_MESHES)")
+    p.add_argument("--meshes", metavar="DIR", required=True, help="folder of meshes (OBJ, PLY, STL, OFF, GLB, glTF)")
     p.add_argument("--styles", default="baimiao,xieyi", help="comma-separated styles (default baimiao,xieyi)")
     p.add_argument("--size", type=int, default=512, help="px per cell (default 512)")
     p.add_argument("-o", "--output", required=True, help="the PNG to write")
     args = p.parse_args(argv)
     try:
-        folder = Path(args.meshes)
-        meshes = sorted(str(f) for f in folder.iterdir() if f.suffix.lower() in SUFFIXES) if folder.is_dir() else []
-        if not meshes:
-            raise ValueError(f"{args.meshes}: no mesh files")
+        meshes = [str(f) for f in mesh_files(args.meshes)]
         print(f"wrote {contact_sheet(meshes, args.styles.split(','), args.output, args.size)}")
     except (ValueError, OSError) as err:
         print(f"brushwork: error: {' '.join(str(err).split())}", file=sys.stderr)

@@ -38,8 +38,9 @@ def family(kind: str) -> str:
 @dataclass(frozen=True)
 class StyleField:
     """One field of a style file. kind: str, float, int, float? (a number or null), pair (two
-    floats), scene (a Scene's settings) or profiles; lo..hi bound a number (lo excluded when
-    lo_open); default None with required: the file must give it."""
+    floats), map (an object of the default's keys, each a number), scene (a Scene's settings) or
+    profiles; lo..hi bound a number (lo excluded when lo_open); default None with required: the
+    file must give it."""
     name: str
     kind: str
     unit: str
@@ -173,32 +174,37 @@ def _check_str(f: StyleField, value) -> str | None:
     return None
 
 
+def _check_pair(f: StyleField, value) -> str | None:
+    if not isinstance(value, list) or len(value) != 2:
+        return "[x, y]"
+    return next((w for w in (_check_number(f, v) for v in value) if w), None)
+
+
+def _check_map(f: StyleField, value) -> str | None:
+    if not isinstance(value, dict) or set(value) != set(f.default):
+        return "an object of " + ", ".join(f.default)
+    return next((f"{k}: {w}" for k, w in ((k, _check_number(f, v)) for k, v in value.items()) if w), None)
+
+
 def _why(f: StyleField, value) -> str | None:
     """Why `value` does not fit field f (what is expected), or None when it does."""
-    if f.kind == "str":
-        return _check_str(f, value)
     if f.kind == "float?" and value is None:
         return None
-    if f.kind == "pair":
-        if not isinstance(value, list) or len(value) != 2:
-            return "[x, y]"
-        return next((w for w in (_check_number(f, v) for v in value) if w), None)
-    if f.kind == "scene":
-        return _check_scene(value)
-    if f.kind == "profiles":
-        return _check_profiles(value)
-    return _check_number(f, value)
+    checks = {"str": _check_str, "pair": _check_pair, "map": _check_map,
+              "scene": lambda _, v: _check_scene(v), "profiles": lambda _, v: _check_profiles(v)}
+    return checks.get(f.kind, _check_number)(f, value)
 
 
-def check_style(doc, where: str) -> dict:
+def check_style(doc, where: str, fields: tuple = FIELDS) -> dict:
     """A parsed style file -> the dataclass's keyword arguments; StyleError naming the file,
     the field and the value at the first problem."""
     if not isinstance(doc, dict):
         raise StyleError(f"{where}: expected a JSON object of style fields")
-    unknown = sorted(set(doc) - set(FIELD_BY_NAME))
+    by_name = {f.name: f for f in fields}
+    unknown = sorted(set(doc) - set(by_name))
     if unknown:
         raise StyleError(f"{where}: unknown field(s) {', '.join(unknown)} (`brushwork params --style` lists them)")
-    for f in FIELDS:
+    for f in fields:
         if f.name not in doc:
             if f.required:
                 raise StyleError(f"{where}: missing field {f.name}")
@@ -206,13 +212,25 @@ def check_style(doc, where: str) -> dict:
         why = _why(f, doc[f.name])
         if why:
             raise StyleError(f"{where}: {f.name} = {json.dumps(doc[f.name])[:40]}: expected {why}")
-    return {k: tuple(v) if FIELD_BY_NAME[k].kind == "pair" else v for k, v in doc.items()}
+    return {k: tuple(v) if by_name[k].kind == "pair" else v for k, v in doc.items()}
 
 
-def style_table() -> str:
+def read_style(name_or_path: str, directory: Path, fields: tuple = FIELDS) -> dict:
+    """The checked fields of a style: by name (a file of `directory`) or from a JSON file
+    (a name with a suffix); StyleError for a bad one."""
+    path = Path(name_or_path)
+    if not path.suffix:
+        path = directory / f"{name_or_path}.json"
+        if not path.is_file():
+            known = ", ".join(sorted(p.stem for p in directory.glob("*.json")))
+            raise StyleError(f"unknown style {name_or_path!r} (known: {known})")
+    return check_style(_read_json(path), str(path), fields)
+
+
+def style_table(fields: tuple = FIELDS) -> str:
     """The style fields as a Markdown table: field, unit, range, default, meaning."""
     rows = ["| field | unit | range | default | meaning |", "|---|---|---|---|---|"]
-    for f in FIELDS:
+    for f in fields:
         default = "required" if f.required else json.dumps(list(f.default) if f.kind == "pair" else f.default,
                                                             ensure_ascii=False)
         cells = (f"`{f.name}`", f.unit, f.range_text(), default, f.doc)
@@ -224,12 +242,7 @@ class _StyleMethods:
     @classmethod
     def load(cls, name_or_path: str) -> "Style":
         """A style by name (kai, xing) or from a JSON file; StyleError for a bad one."""
-        path = Path(name_or_path)
-        if not path.suffix:
-            path = STYLE_DIR / f"{name_or_path}.json"
-            if not path.is_file():
-                raise StyleError(f"unknown style {name_or_path!r} (known: {', '.join(cls.names())})")
-        return cls(**check_style(_read_json(path), str(path)))
+        return cls(**read_style(name_or_path, STYLE_DIR))
 
     def density(self, strokes: int) -> float:
         """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
@@ -265,13 +278,20 @@ def _dataclass_field(f: StyleField):
     return field(default=f.default)
 
 
-_TYPES = {"str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "scene": dict,
-          "profiles": dict}
-# the dataclass of a style, its fields in the table's order (required ones first, as a dataclass needs)
-Style = make_dataclass(
-    "Style",
-    [(f.name, _TYPES[f.kind]) for f in FIELDS if f.required]
-    + [(f.name, _TYPES[f.kind], _dataclass_field(f)) for f in FIELDS if not f.required],
-    bases=(_StyleMethods,))
+_TYPES = {"str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "map": dict,
+          "scene": dict, "profiles": dict}
+
+
+def style_dataclass(name: str, fields: tuple, bases: tuple) -> type:
+    """The dataclass of a style table, its fields in the table's order (required ones first,
+    as a dataclass needs)."""
+    return make_dataclass(
+        name,
+        [(f.name, _TYPES[f.kind]) for f in fields if f.required]
+        + [(f.name, _TYPES[f.kind], _dataclass_field(f)) for f in fields if not f.required],
+        bases=bases)
+
+
+Style = style_dataclass("Style", FIELDS, (_StyleMethods,))
 Style.__module__ = __name__
 Style.__doc__ = "How a hand writes: the fields of FIELDS (`brushwork params --style`). Loaded by Style.load."
