@@ -30,7 +30,8 @@ fi
 # its own CMake, Ninja and pybind11 under a new temporary path each time, which makes CMake
 # reconfigure and recompile everything; in .venv the build folder (build/{wheel_tag},
 # pyproject.toml) stays valid and a second run compiles only what changed
-.venv/bin/python -m pip install -q "scikit-build-core>=0.8" "pybind11>=2.11"
+.venv/bin/python -c "import scikit_build_core, pybind11" 2>/dev/null ||
+  .venv/bin/python -m pip install -q "scikit-build-core>=0.8" "pybind11>=2.11"
 log=build/install.log
 mkdir -p build
 echo "building brushwork (the C++ core: a minute or two the first time; the log is $log)" >&2
