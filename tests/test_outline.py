@@ -488,3 +488,20 @@ def test_a_line_thins_where_it_runs_behind_a_nearer_one():
     gap = np.min(np.linalg.norm(chains[ear].points[:, None, :] - chains[head].points[None, ::3, :], axis=2), axis=1)
     assert w[ear][gap < 2.0].min() <= 1.0 - 0.9 * style.occlusion_thinning
     assert np.allclose(w[ear][gap > 0.03 * np.hypot(512, 512)], 1.0) and np.allclose(w[head], 1.0)
+
+
+@pytest.mark.parametrize("style", ["baimiao", "xieyi"])
+def test_a_closed_line_has_no_gap_at_its_seam(style):
+    """A closed chain is drawn round again over its light entry: ink all the way round a
+    circle, at every degree."""
+    from brushwork.outline3d.chains import Chain
+    from brushwork.outline3d.strokes import OutlineDrawer
+
+    a = np.radians(np.arange(0.0, 360.0, 1.0))
+    pts = np.column_stack([512 + 300 * np.cos(a), 512 + 300 * np.sin(a)])
+    drawer = OutlineDrawer(OutlineStyle.load(style), (1024, 1024))
+    drawer.draw(Chain(np.vstack([pts, pts[:1]]), np.zeros(len(pts) + 1), SILHOUETTE, closed=True))
+    ink = drawer.paper.ink() > 0.25
+    ix = np.round(pts).astype(int)
+    around = [ink[y - 2:y + 3, x - 2:x + 3].any() for x, y in ix]
+    assert all(around), np.degrees(a[~np.array(around)])

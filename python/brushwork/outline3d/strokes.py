@@ -95,8 +95,10 @@ class OutlineDrawer:
         pts = np.column_stack([chain.points[:, 0], self.height_px - chain.points[:, 1]]) / self.ppm
         weight = np.ones(len(pts)) if weight is None else np.asarray(weight, dtype=float)
         if chain.closed:
-            pts = np.vstack([pts, pts[1:3]])              # close the loop, a little overlap
-            weight = np.concatenate([weight, weight[1:3]])
+            # round the loop again over its light entry and on for the exit's taper: no gap at the seam
+            along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+            k = min(int(np.searchsorted(along, st.entry_mm + st.exit_mm)) + 1, len(pts))
+            pts, weight = np.vstack([pts, pts[1:k]]), np.concatenate([weight, weight[1:k]])
         s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
         if s[-1] <= 0:
             return
