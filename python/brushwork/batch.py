@@ -21,7 +21,8 @@ from .glyphs import charsets, load_source
 from .glyphs.charsets import gb2312  # noqa: F401  (batch.gb2312: the benchmarks' pool)
 from .glyphs.sources import add_source_hint
 from .files import decodes, os_error_text, save_paper
-from .paper import Paper
+from .paper import Paper, ink_path
+from .scene import Scene
 from .writing import Style, Writer, check_samples, check_size, writing_paper
 from .writing.driver import MAX_SIDE
 
@@ -77,7 +78,8 @@ def check_request(chars: str, size: int, bits: int, samples: int | None, seed: i
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
-               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None) -> Paper:
+               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
+               ink: str = "gl") -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
@@ -90,7 +92,7 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws)."""
     st = style if isinstance(style, Style) else Style.load(style)
     if paper is None:
-        paper = writing_paper(st, size, len(glyphs), samples)
+        paper = writing_paper(st, size, len(glyphs), samples, ink)
     else:
         if (paper.width_px, paper.height_px) != (len(glyphs) * size, size):
             raise ValueError(f"a {paper.width_px} x {paper.height_px} px paper cannot take {len(glyphs)} "
@@ -140,12 +142,13 @@ def read_charset(path: str | os.PathLike) -> str:
 _JOB: dict = {}
 
 
-def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None) -> None:
+def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None,
+                 ink: str = "gl") -> None:
     # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
     # size and scene: drop it
     _JOB.clear()
     _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
-                samples=samples)
+                samples=samples, ink=ink)
 
 
 def _render_one(task: tuple) -> tuple:
@@ -155,7 +158,7 @@ def _render_one(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], _JOB["samples"],
-                           paper=_JOB.get("paper"))
+                           paper=_JOB.get("paper"), ink=_JOB["ink"])
         _JOB["paper"] = paper
         save_paper(paper, out, bits=_JOB["bits"], background=_JOB["background"])
     except Exception as err:     # reported at the end with the character; the batch goes on
@@ -215,14 +218,14 @@ class Progress:
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None,
-              executor: str = "local") -> BatchResult:
+              executor: str = "local", ink: str = "gl") -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
     (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
     from .raymap import check_executor
 
     check_executor(executor)
     size, bits, seed, samples = check_size(size), check_bits(bits), check_seed(seed), check_samples(samples)
-    Style.load(style)                                        # a bad style fails now, not in every worker
+    ink_path(Scene(**Style.load(style).scene), ink)           # a bad style or ink fails now, not in every worker
     jobs = int(jobs)
     if jobs < 1:
         raise ValueError(f"--jobs {jobs}: expected >= 1")
@@ -234,7 +237,7 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
-    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress, executor)
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples, ink), result, progress, executor)
     return result
 
 

@@ -175,6 +175,15 @@ def _image_args(p: argparse.ArgumentParser) -> None:
                         "1 is ~2.5x faster on a software renderer, its edges stepped at the pixel")
     p.add_argument("--bits", type=int, default=8, help="PNG bits per channel, 8 or 16 (default 8)")
     p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
+    _ink_args(p)
+
+
+def _ink_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--ink", default="gl", choices=("auto", "geometry", "gl"),
+                   help="how the ink is made: gl (default: the EGL footprint pass), geometry (exact outlines in mm "
+                        "swept continuously between frames, rasterised without GL; several times slower than gl "
+                        "on a kai character) or auto (geometry unless the style's scene has split, dry or grain "
+                        "maps, a soaked tip or a colour ramp)")
 
 
 def _render_text_args(p: argparse.ArgumentParser) -> None:
@@ -190,12 +199,15 @@ def _render_text_args(p: argparse.ArgumentParser) -> None:
 
 def _render_text(args: argparse.Namespace) -> int:
     from .batch import check_request, text_chars, text_paper, writing_stats
+    from .paper import ink_path
+    from .scene import Scene
     from .files import check_image_path, save_paper
     from .writing import Style
 
     chars = text_chars(args.text)
     check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
+    ink_path(Scene(**style.scene), args.ink)
     check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
     if args.stats:
         from .bench.report import check_writable, write_json
@@ -204,13 +216,14 @@ def _render_text(args: argparse.Namespace) -> int:
     glyphs = _load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     counts: dict = {}
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts)
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=args.ink)
     path = save_paper(paper, args.output, bits=args.bits,
                       background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({_plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
     if args.stats:
-        write_json(args.stats, {"text": "".join(chars), "size": args.size, "style": style.name, **writing_stats(counts)})
+        write_json(args.stats, {"text": "".join(chars), "size": args.size, "style": style.name, "ink": paper.inked_by,
+                                **writing_stats(counts)})
     return 0
 
 
@@ -270,7 +283,8 @@ def _batch(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress, samples=args.samples, executor=args.executor)
+                          progress=not args.no_progress, samples=args.samples, executor=args.executor,
+                          ink=args.ink)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
@@ -319,17 +333,25 @@ def _bench_batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
     p.add_argument("--samples", type=int, default=None, help="multisampling: 1, 2, 4 or 8 (default: the style's)")
+    p.add_argument("--ink", default="gl", help="gl (default), geometry or auto, or several with commas (geometry,gl): "
+                                                 "each measured in turn, in this one run")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
 
 
 def _bench_batch(args: argparse.Namespace) -> int:
     from .batch import check_samples
+    from .paper import ink_path
+    from .scene import Scene
+    from .writing import Style
     from .bench import glyphs
 
     check_samples(args.samples)
-    return _report("batch", args, lambda: glyphs.run_batch_bench(args.source, args.count, args.size, args.jobs,
-                                                                 args.style, samples=args.samples),
-                   glyphs.batch_table)
+    paths = args.ink.split(",")
+    for ink in paths:
+        ink_path(Scene(**Style.load(args.style).scene), ink)
+    return _report("batch", args, lambda: glyphs.run_batch_benches(args.source, args.count, args.size, args.jobs,
+                                                                   args.style, samples=args.samples, inks=paths),
+                   glyphs.batch_tables)
 
 
 # font (brushwork.font: its options and handler live there)

@@ -302,14 +302,15 @@ class _Timed:
             self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
 
 
-def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
+def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None, ink: str = "gl") -> dict:
     """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
-    step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
+    step (the solver), in the paper's deposit (GL, or the geometry's sweep), in the driver's own
+    Python, in the geometry's union and raster (on readback), and in PNG saving."""
     st = Style.load(style)
     counters: dict = {}
     frames = 0
     t0 = time.perf_counter()
-    paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
+    paper = writing_paper(st, size, samples=samples, ink=ink)   # one paper, cleared for each, as in a batch
     paper.deposit = _Timed(paper.deposit, "deposit", counters)
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
@@ -320,14 +321,25 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
             frames += writer.frames
             ts = time.perf_counter()
             paper.save(os.path.join(tmp, "g.png"))
-            counters["save"] = counters.get("save", 0.0) + time.perf_counter() - ts
+            saved = time.perf_counter() - ts
+            for part, secs in _readback(paper).items():
+                counters[part] = counters.get(part, 0.0) + secs
+                saved -= secs
+            counters["save"] = counters.get("save", 0.0) + saved
     total = time.perf_counter() - t0
     counters["driver and the rest"] = total - sum(counters.values())
-    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
+    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters,
+            "ink": paper.inked_by}
+
+
+def _readback(paper) -> dict:
+    """The geometry's last readback: seconds of union and of raster (none for a GL paper)."""
+    t = getattr(paper, "timings", None)
+    return {} if t is None else {"union": t["union_s"], "raster": t["raster_s"]}
 
 
 def run_batch_bench(source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
-                    style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
+                    style: str = "kai", progress: bool = True, samples: int | None = None, ink: str = "gl") -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
     across the set (those the source has), then one process's time breakdown on a few of them."""
     size = bt.check_size(size)
@@ -341,19 +353,40 @@ def run_batch_bench(source: str = "default", count: int = 200, size: int = 1024,
     text = "".join(dict.fromkeys(picked))
     with tempfile.TemporaryDirectory() as tmp:
         res = bt.run_batch(text, tmp, source=source, jobs=jobs, size=size, style=style, progress=progress,
-                           samples=samples)
-    parts = breakdown([have[c] for c in text[:4]], size, style, samples)
+                           samples=samples, ink=ink)
+    parts = breakdown([have[c] for c in text[:4]], size, style, samples, ink)
     return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's",
+            "ink": parts["ink"],
             "characters": len(res.written),
             "failed": res.failed, "seconds": res.seconds, "chars_per_s": res.chars_per_s,
             "gb2312_hours": len(bt.gb2312()) / res.chars_per_s / 3600.0 if res.chars_per_s else None,
             "breakdown": parts}
 
 
+def run_batch_benches(source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
+                      style: str = "kai", progress: bool = True, samples: int | None = None,
+                      inks: tuple = ("gl",)) -> dict:
+    """run_batch_bench once for each ink path of `inks`, in turn, in this one run."""
+    runs = [run_batch_bench(source, count, size, jobs, style, progress, samples, ink) for ink in inks]
+    return runs[0] if len(runs) == 1 else {"runs": runs}
+
+
+def batch_tables(result: dict) -> str:
+    """batch_table of each run, then the speed of each against the last."""
+    runs = result.get("runs")
+    if runs is None:
+        return batch_table(result)
+    last = runs[-1]
+    ratios = [f"{r['ink']}: {r['chars_per_s'] / last['chars_per_s']:.2f}x {last['ink']}" for r in runs[:-1]
+              if last["chars_per_s"]]
+    return "\n\n".join(batch_table(r) for r in runs) + "\n\n" + "; ".join(ratios)
+
+
 def batch_table(result: dict) -> str:
     b = result["breakdown"]
     lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
-             f"{result['jobs']} jobs, samples {result['samples']}: {result['chars_per_s']:.2f} characters/s "
+             f"{result['jobs']} jobs, samples {result['samples']}, ink {result['ink']}: "
+             f"{result['chars_per_s']:.2f} characters/s "
              f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
              "",
              f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from ..brush import Brush, Pose
-from ..paper import Paper
+from ..paper import Paper, make_paper
 from ..recorded import root_height
 from ..scene import Scene
 from .style import Style, family
@@ -504,10 +504,11 @@ def check_samples(samples: int | None) -> int | None:
     return samples
 
 
-def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None) -> Paper:
+def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None, ink: str = "gl") -> Paper:
     """A paper for `chars` characters in a row, each em box a size x size px square, with the
     style's scene; `samples` overrides its multisampling (1 is ~2.5x faster on a software
-    renderer, its edges stepped at the pixel)."""
+    renderer, its edges stepped at the pixel); `ink` picks the ink's path (paper.ink_path: auto
+    takes geometry, without GL, for an opaque scene)."""
     size, samples = check_size(size), check_samples(samples)
     if chars < 1:
         raise ValueError("no characters to render")
@@ -515,13 +516,13 @@ def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None =
         raise ValueError(f"{chars} characters x {size} px = {chars * size} px wide: more than {MAX_SIDE}; "
                          "use a smaller size or `brushwork batch`")
     scene = dict(style.scene, **({"samples": samples} if samples else {}))
-    return Paper(chars * style.em_mm, style.em_mm, size / style.em_mm, scene=Scene(**scene))
+    return make_paper(chars * style.em_mm, style.em_mm, size / style.em_mm, Scene(**scene), ink)
 
 
-def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
+def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0, ink: str = "gl") -> Paper:
     """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
     lands where its SVG recipe draws the outlines), with the glyph written on it."""
     st = style if isinstance(style, Style) else Style.load(style)
-    paper = writing_paper(st, size)
+    paper = writing_paper(st, size, ink=ink)
     Writer(paper, st, seed).write(glyph)
     return paper

@@ -1,0 +1,305 @@
+// The paper whose ink is geometry: strokes as unioned contours (mm), rasterised on readback.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "../render/checks.hpp"
+#include "../render/pixels.hpp"
+#include "../render/render_mesh.hpp"
+#include "../render/wet_area.hpp"
+#include "brushwork/ink_geometry.hpp"
+#include "clip.hpp"
+
+namespace brushwork {
+
+namespace {
+
+constexpr double kWetCellMm = 0.1;    // mm: the cells the spent ink is measured in (as a Paper's)
+constexpr int kMaxPaperPx = 32768;    // px: the longest side of a paper
+// the sweep mesh: as fine as this on the paper, up to these caps (sweep_surface's ring radii are
+// smooth, so the outline's chords are what stays of the mesh: 0.004 mm on the small brush's belly)
+constexpr double kMeshMm = 0.25;
+constexpr int kMeshRings = 8, kMeshAround = 96;
+constexpr double kResolutionFree = 1e6;  // px/mm handed to mesh_options_for: no pixel floor
+constexpr std::size_t kUnionPoints = 20000;  // points a stroke piles up before they are unioned
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// the brush's surface as the sweep takes it: each ring moved out from its centre so that the
+// polygon of A vertices has its section's area (as sweep_frame does for the footprint pass)
+SurfaceMesh sweep_mesh(const Brush& tuft, const MeshOptions& opt) {
+  SurfaceMesh m = tuft.surface_mesh(opt);
+  const int A = opt.around;
+  const int NR = static_cast<int>((m.vertices.rows() - 2) / A);
+  const double k = std::sqrt(2.0 * 3.14159265358979323846 / (A * std::sin(2.0 * 3.14159265358979323846 / A)));
+  for (int j = 0; j < NR; ++j) {
+    auto ring = m.vertices.middleRows(static_cast<Eigen::Index>(j) * A, A);
+    const Eigen::RowVector3d c = ring.colwise().mean();
+    ring = (ring.rowwise() - c) * k;
+    ring.rowwise() += c;
+  }
+  return m;
+}
+
+bool below_paper(const SurfaceMesh& m) { return m.vertices.rows() > 0 && m.vertices.col(2).minCoeff() < 0.0; }
+
+}  // namespace
+
+// a run of deposits at one density, their region's pieces (winding > 0)
+struct Group {
+  double density = 1.0;
+  ClipperLib::Paths paths;
+  std::size_t points = 0;
+  void add(const Loops& loops) {
+    for (const auto& l : loops) {
+      paths.push_back(clip::to_path(l));
+      points += static_cast<std::size_t>(l.rows());
+    }
+    if (points > kUnionPoints) compact();
+  }
+  void compact() {
+    paths = clip::unite(paths);
+    points = 0;
+    for (const auto& p : paths) points += p.size();
+  }
+};
+
+struct VectorPaper::Stroke {
+  std::array<float, 4> color{{0, 0, 0, 1}};
+  std::vector<Group> groups;
+};
+
+struct VectorPaper::Layer {
+  std::array<float, 4> color{{0, 0, 0, 1}};
+  std::vector<Group> groups;  // unioned; the layer's ink is the densest group over a pixel
+};
+
+struct VectorPaper::Wet {
+  WetLedger ledger{kWetCellMm};
+};
+
+VectorPaper::VectorPaper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
+                         const SweepTolerance& tol)
+    : scene_(scene), tol_(tol), width_mm_(width_mm), height_mm_(height_mm), ppm_(px_per_mm),
+      wet_(std::make_unique<Wet>()) {
+  scene_.validate();
+  if (scene_.split_map || scene_.dry_map || scene_.grain || scene_.soaked_tip || scene_.color_ramp)
+    throw std::invalid_argument(
+        "ink geometry: the scene uses a split, dry or grain map, a soaked tip or a colour ramp; those need the GL "
+        "footprint pass (ink='gl')");
+  checks::positive("width_mm", width_mm);
+  checks::positive("height_mm", height_mm);
+  checks::positive("px_per_mm", px_per_mm);
+  if (!(tol_.tol_mm > 0.0) || tol_.max_samples < 1)
+    throw std::invalid_argument("ink geometry: tol_mm must be > 0 and max_samples >= 1");
+  // the pixel size a Paper of these millimetres has
+  const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
+  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
+    throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
+                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
+  W_ = static_cast<int>(w);
+  H_ = static_cast<int>(h);
+}
+
+VectorPaper::~VectorPaper() = default;
+
+MeshOptions VectorPaper::mesh_options(const BrushModel& model) const {
+  return mesh_options_for(model, kResolutionFree, kMeshMm, kMeshRings, kMeshAround);
+}
+
+DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
+  const int nodes = brush.model().n_segments + 1;
+  if (ink != nullptr) ink->validate(nodes);
+  if (scene_.depletion && ink == nullptr)
+    throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
+  const auto t0 = std::chrono::steady_clock::now();
+  DepositStats stats;
+  const std::vector<const Brush*> tufts = brush.tufts();
+  std::vector<SurfaceMesh> cur;
+  for (const Brush* t : tufts) {
+    cur.push_back(sweep_mesh(*t, mesh_options(t->model())));
+    stats.contact = stats.contact || below_paper(cur.back());
+  }
+  if (!stats.contact) {
+    end_stroke();
+    return stats;
+  }
+  const bool same = stroke_open_ && last_brush_ == &brush;
+  auto swept = [&](std::size_t k) {
+    return same && k < last_.size() && last_tufts_[k] == tufts[k] && last_[k].vertices.rows() == cur[k].vertices.rows();
+  };
+  if (!swept(0)) {
+    flush_stroke();
+    stats.new_stroke = true;
+    wet_->ledger.clear();
+  }
+  // one colour a stroke: a new colour starts another (as the alpha-only layer of a Paper does)
+  const auto color = ink != nullptr ? ink->ramp.front() : std::array<float, 4>{0, 0, 0, 1};
+  if (open_ && color != open_->color) flush_stroke();
+  if (!open_) {
+    open_ = std::make_unique<Stroke>();
+    open_->color = color;
+  }
+  stroke_color_ = color;
+  for (std::size_t k = 0; k < tufts.size(); ++k) {
+    int samples = 0;
+    const bool s = swept(k);
+    const Loops region = swept_footprint(s ? last_[k] : cur[k], cur[k], tol_, &samples);
+    if (k == 0) stats.substeps = samples;
+    const double density = scene_.depletion ? ink_density(*tufts[k]) : 1.0;
+    if (!region.empty()) {
+      if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}, 0});
+      open_->groups.back().add(region);
+      stats.drawn = true;
+    }
+    if (scene_.depletion) stats.deposited += wet_->ledger.add(*tufts[k], s, k, density * stroke_color_[3]);
+  }
+  if (stats.drawn) stats.pressure = node_pressure(brush);
+  stroke_open_ = true;
+  last_brush_ = &brush;
+  last_ = std::move(cur);
+  last_tufts_ = tufts;
+  sweep_s_ += seconds_since(t0);
+  return stats;
+}
+
+void VectorPaper::end_stroke() {
+  flush_stroke();
+  stroke_open_ = false;
+  last_brush_ = nullptr;
+}
+
+void VectorPaper::flush_stroke() {
+  if (!open_) return;
+  if (!open_->groups.empty()) {
+    for (Group& g : open_->groups) g.compact();
+    strokes_.push_back(std::move(*open_));
+  }
+  open_.reset();
+}
+
+bool VectorPaper::undo() {
+  flush_stroke();
+  if (strokes_.empty()) return false;
+  strokes_.pop_back();
+  stroke_open_ = false;
+  last_brush_ = nullptr;
+  wet_->ledger.clear();
+  return true;
+}
+
+void VectorPaper::clear() {
+  strokes_.clear();
+  open_.reset();
+  stroke_open_ = false;
+  last_brush_ = nullptr;
+  last_.clear();
+  last_tufts_.clear();
+  wet_->ledger.clear();
+}
+
+std::vector<VectorPaper::Layer> VectorPaper::layers() {
+  // consecutive strokes of one colour at full density are one layer, their union; any other
+  // stroke is a layer of its own
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<Layer> out;
+  auto solid = [](const Stroke& s) { return s.groups.size() == 1 && s.groups[0].density >= 1.0; };
+  bool open_solid = false;
+  auto add = [&](const Stroke& s) {
+    if (solid(s) && open_solid && out.back().color == s.color) {
+      ClipperLib::Paths& p = out.back().groups[0].paths;
+      p.insert(p.end(), s.groups[0].paths.begin(), s.groups[0].paths.end());
+      return;
+    }
+    out.push_back(Layer{s.color, s.groups});
+    open_solid = solid(s);
+  };
+  for (const Stroke& s : strokes_) add(s);
+  if (open_ && !open_->groups.empty()) add(*open_);
+  for (Layer& l : out)
+    for (Group& g : l.groups) g.compact();
+  union_s_ = seconds_since(t0);
+  return out;
+}
+
+Loops VectorPaper::outlines() {
+  ClipperLib::Paths all;
+  for (const Layer& l : layers())
+    for (const Group& g : l.groups) all.insert(all.end(), g.paths.begin(), g.paths.end());
+  return clip::to_loops(clip::unite(all));
+}
+
+void VectorPaper::composite(const std::function<void(int row, const float* rgba)>& put) {
+  // each layer's coverage (the densest of its groups over a pixel) composited over the last,
+  // premultiplied: P = L + P (1 - L_a); rows handed out from the top
+  const std::vector<Layer> ls = layers();
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::size_t N = static_cast<std::size_t>(W_) * H_;
+  std::vector<float> rgba(ls.size() == 1 ? 0 : 4 * N, 0.0f), cov(N), best;
+  std::vector<float> row(4 * static_cast<std::size_t>(W_));
+  for (std::size_t li = 0; li < ls.size(); ++li) {
+    const Layer& l = ls[li];
+    best.assign(l.groups.size() > 1 ? N : 0, 0.0f);
+    for (const Group& g : l.groups) {
+      coverage(clip::to_loops(g.paths), ppm_, W_, H_, cov.data());
+      const float d = static_cast<float>(g.density);
+      if (l.groups.size() > 1)
+        for (std::size_t i = 0; i < N; ++i) best[i] = std::max(best[i], d * cov[i]);
+      else if (d != 1.0f)
+        for (std::size_t i = 0; i < N; ++i) cov[i] *= d;
+    }
+    const std::vector<float>& a = l.groups.size() > 1 ? best : cov;
+    if (ls.size() == 1) break;  // a single layer goes straight out below
+    for (std::size_t i = 0; i < N; ++i) {
+      const float s = a[i] * l.color[3];
+      float* P = &rgba[4 * i];
+      for (int c = 0; c < 3; ++c) P[c] = l.color[c] * s + P[c] * (1.0f - s);
+      P[3] = s + P[3] * (1.0f - s);
+    }
+  }
+  for (int y = 0; y < H_; ++y) {
+    if (ls.size() == 1) {
+      const Layer& l = ls[0];
+      const float* a = (l.groups.size() > 1 ? best.data() : cov.data()) + static_cast<std::size_t>(y) * W_;
+      for (int x = 0; x < W_; ++x) {
+        const float s = a[x] * l.color[3];
+        for (int c = 0; c < 3; ++c) row[4 * x + c] = l.color[c] * s;
+        row[4 * x + 3] = s;
+      }
+      put(y, row.data());
+    } else if (ls.empty()) {
+      std::fill(row.begin(), row.end(), 0.0f);
+      put(y, row.data());
+    } else {
+      put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
+    }
+  }
+  raster_s_ = seconds_since(t0);
+}
+
+void VectorPaper::read_ink(float* out) {
+  composite([&](int y, const float* rgba) {
+    float* dst = out + static_cast<std::size_t>(y) * W_;
+    for (int x = 0; x < W_; ++x) dst[x] = rgba[4 * x + 3];
+  });
+}
+
+void VectorPaper::read_rgba(float* out) {
+  composite([&](int y, const float* rgba) { std::copy_n(rgba, 4 * W_, out + 4 * static_cast<std::size_t>(y) * W_); });
+}
+
+void VectorPaper::read_image(int bits, bool white, bool bgr, void* out) {
+  if (bits != 8 && bits != 16) throw std::invalid_argument("bits = " + std::to_string(bits) + ": expected 8 or 16");
+  const std::size_t px = static_cast<std::size_t>(W_) * (white ? 3 : 4) * (bits == 8 ? 1 : 2);
+  composite([&](int y, const float* rgba) {
+    image_row_any(rgba, static_cast<std::uint8_t*>(out) + static_cast<std::size_t>(y) * px, W_, bits, white, bgr);
+  });
+}
+
+}  // namespace brushwork

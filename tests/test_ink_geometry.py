@@ -1,0 +1,119 @@
+"""Ink as geometry: union, exact coverage, the swept footprint and the paper made of them."""
+import math
+
+import numpy as np
+import pytest
+
+import brushwork as bw
+from brushwork import _core
+from brushwork.paper import VectorPaper, ink_path, make_paper
+
+
+def area(loops):
+    return sum(0.5 * float(np.sum(l[:, 0] * np.roll(l[:, 1], -1) - np.roll(l[:, 0], -1) * l[:, 1])) for l in loops)
+
+
+def disc(cx, cy, r, n=720):
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    return np.c_[cx + r * np.cos(t), cy + r * np.sin(t)]
+
+
+def test_the_union_of_two_overlapping_footprints_has_their_known_area():
+    a = disc(0.0, 0.0, 2.0)
+    b = disc(2.0, 0.0, 2.0)
+    u = _core.union_loops([a, b])
+    # two discs of radius r = 2 at distance d = 2: 2 pi r^2 less the lens 2 r^2 acos(d / 2r) - d/2 sqrt(4 r^2 - d^2)
+    r, d = 2.0, 2.0
+    lens = 2 * r * r * math.acos(d / (2 * r)) - 0.5 * d * math.sqrt(4 * r * r - d * d)
+    assert len(u) == 1
+    assert area(u) == pytest.approx(2 * math.pi * r * r - lens, rel=2e-4)
+
+
+def test_a_discs_coverage_is_pi_r_squared():
+    r, ppm = 3.3, 10.0
+    cov = _core.coverage([disc(5.0, 5.2, r, 4000)], ppm, 100, 100)
+    assert cov.min() >= 0.0 and cov.max() <= 1.0
+    assert abs(cov.sum() / ppm**2 - math.pi * r * r) < 1e-4 * math.pi * r * r
+    # a pixel wholly inside is 1, one far outside 0; the edge is partial
+    assert cov[100 - 52, 50] == pytest.approx(1.0) and cov[0, 0] == 0.0
+    assert 0 < np.count_nonzero((cov > 0) & (cov < 1))
+
+
+def test_coverage_clips_at_the_papers_sides_and_takes_holes():
+    square = np.array([[-5.0, -5.0], [5.0, -5.0], [5.0, 5.0], [-5.0, 5.0]])       # ccw, past the corner
+    hole = np.array([[1.0, 1.0], [1.0, 2.0], [2.0, 2.0], [2.0, 1.0]])               # cw
+    cov = _core.coverage([square, hole], 4.0, 40, 40)
+    assert cov.sum() / 16.0 == pytest.approx(25.0 - 1.0, abs=1e-6)
+
+
+def test_empty_degenerate_and_self_touching_loops():
+    assert _core.union_loops([]) == []
+    assert _core.coverage([], 10.0, 8, 8).sum() == 0.0
+    line = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])                           # no area
+    assert _core.union_loops([line]) == []
+    assert _core.coverage([line], 10.0, 30, 30).sum() == 0.0
+    # two squares touching at a corner, as one loop through the shared point
+    bow = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0], [1.0, 1.0], [0.0, 1.0]])
+    assert area(_core.union_loops([bow])) == pytest.approx(2.0, abs=1e-9)
+    assert _core.coverage([bow], 10.0, 25, 25).sum() / 100.0 == pytest.approx(2.0, abs=1e-6)
+    with pytest.raises(ValueError):
+        _core.union_loops([np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]])])
+
+
+def pressed_brush():
+    from brushwork.recorded import root_height
+
+    b = bw.Brush("small")
+    z0, z1 = root_height(b.model, 15, 0.0) + 1.0, root_height(b.model, 15, 0.25)
+    for k in range(30):
+        b.step(bw.Pose((20.0, 20.0, z0 + (z1 - z0) * (k + 1) / 30), 15, 0))
+    return b, z1
+
+
+def test_a_still_footprint_is_its_own_region_and_a_swept_one_covers_both_ends():
+    b, z1 = pressed_brush()
+    paper = VectorPaper(60, 40, 10)
+    opt = paper.mesh_options(b.model)
+    v0, f, _ = b.surface_mesh(opt)
+    loops, k = _core.swept_footprint(v0, v0, f.astype(np.int32))
+    assert k == 1 and area(_core.union_loops(loops)) == pytest.approx(area(_core.union_loops(b.footprint(opt))), rel=1e-6)
+    b.step(bw.Pose((21.0, 20.0, z1), 15, 0))
+    v1, _, _ = b.surface_mesh(opt)
+    region, k = _core.swept_footprint(v0, v1, f.astype(np.int32))
+    swept = area(_core.union_loops(region))
+    ends = area(_core.union_loops(b.footprint(opt) + _core.swept_footprint(v0, v0, f.astype(np.int32))[0]))
+    assert k >= 1 and swept > ends
+
+
+def write_stroke(paper):
+    b, z1 = pressed_brush()
+    for k in range(25):
+        paper.deposit(b)
+        b.step(bw.Pose((20.0 + 0.8 * (k + 1), 20.0 + 4 * math.sin(k / 6), z1), 15, 0))
+    paper.end_stroke()
+    return paper
+
+
+def test_a_vector_paper_stroke_matches_the_gl_pass_and_repeats_exactly():
+    geo = write_stroke(VectorPaper(60, 40, 10))
+    gl = write_stroke(bw.Paper(60, 40, 10, scene=bw.Scene(samples=4)))
+    a, b = geo.ink() > 0.5, gl.ink() > 0.5
+    iou = np.count_nonzero(a & b) / np.count_nonzero(a | b)
+    assert iou > 0.97, iou
+    # the outlines' area is the raster's ink, and a second writing gives the same bytes
+    assert area(geo.outlines()) == pytest.approx(float(geo.ink().sum()) / 100.0, rel=1e-3)
+    again = write_stroke(VectorPaper(60, 40, 10))
+    assert np.array_equal(again.image(), geo.image())
+    assert geo.undo() and geo.ink().sum() == 0.0
+
+
+def test_the_scene_chooses_the_path():
+    assert ink_path(bw.Scene(), "auto") == "geometry"
+    assert ink_path(bw.Scene(depletion=True), "auto") == "geometry"
+    assert ink_path(bw.Scene(dry_map=True), "auto") == "gl"
+    with pytest.raises(ValueError, match="dry_map"):
+        ink_path(bw.Scene(dry_map=True), "geometry")
+    with pytest.raises(ValueError, match="ink"):
+        ink_path(bw.Scene(), "vector")
+    assert isinstance(make_paper(10, 10, 4, bw.Scene(), "auto"), VectorPaper)
+    assert bw.render_info()["ink"] == "geometry"
