@@ -59,6 +59,8 @@ namespace {
 
 using Rows3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
+constexpr double kStill = 1e-9;  // mm: a footprint whose centroid moves less sweeps no band
+
 // the part of two meshes of one topology that can meet the paper at some blend: the faces with a
 // vertex below it in either (z is linear in t, so a vertex below at some t is below at an end),
 // their vertices renumbered; blend() fills `mesh` with (1 - t) a + t b of those vertices
@@ -113,40 +115,7 @@ int blends_needed(const NearPart& p, const SweepTolerance& tol) {
   return std::clamp(k, 1, tol.max_samples);
 }
 
-using Run = std::vector<Eigen::Vector2d>;
 using LoopMat = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
-
-// the runs of edges of the loops facing a move by `shift` mm (outward normal (dy, -dx), the region
-// on the left of travel, with a positive component along the shift), each as its points in order.
-// Such a run is monotone across the shift, so it and its slid copy bound a simple band
-std::vector<Run> facing_runs(const Loops& loops, const Eigen::Vector2d& shift) {
-  std::vector<Run> runs;
-  if (shift.squaredNorm() < 1e-18) return runs;
-  for (const auto& L : loops) {
-    const Eigen::Index k = L.rows();
-    auto facing = [&](Eigen::Index i) {
-      const Eigen::Vector2d e = L.row(i + 1 == k ? 0 : i + 1) - L.row(i);
-      return e.y() * shift.x() - e.x() * shift.y() > 0.0;
-    };
-    // start after an edge that does not face the move (a loop facing it all round has no band)
-    Eigen::Index start = -1;
-    for (Eigen::Index i = 0; i < k && start < 0; ++i)
-      if (!facing(i)) start = (i + 1) % k;
-    if (start < 0) continue;
-    Run run;
-    for (Eigen::Index n = 0; n <= k; ++n) {
-      const Eigen::Index i = (start + n) % k;
-      if (n < k && facing(i)) {
-        if (run.empty()) run.push_back(L.row(i).transpose());
-        run.push_back(L.row(i + 1 == k ? 0 : i + 1).transpose());
-        continue;
-      }
-      if (run.size() >= 2) runs.push_back(run);
-      run.clear();
-    }
-  }
-  return runs;
-}
 
 // a closed polygon from its points, turned counter-clockwise
 LoopMat ccw_polygon(const std::vector<Eigen::Vector2d>& pts) {
@@ -156,25 +125,55 @@ LoopMat ccw_polygon(const std::vector<Eigen::Vector2d>& pts) {
   return m;
 }
 
-// the band each run sweeps when slid by `shift`: the run, then the run slid and walked back
-void slid_band(const std::vector<Run>& runs, const Eigen::Vector2d& shift, Loops& out) {
-  for (const Run& run : runs) {
-    std::vector<Eigen::Vector2d> pts(run);
-    for (auto it = run.rbegin(); it != run.rend(); ++it) pts.push_back(*it + shift);
-    out.push_back(ccw_polygon(pts));
+// the loop's points furthest right (first) and left (second) across a move along `dir` (unit)
+std::pair<Eigen::Vector2d, Eigen::Vector2d> support(const LoopMat& L, const Eigen::Vector2d& dir) {
+  const Eigen::Vector2d across(-dir.y(), dir.x());
+  const Eigen::VectorXd s = L * across;
+  Eigen::Index lo = 0, hi = 0;
+  s.minCoeff(&lo);
+  s.maxCoeff(&hi);
+  return {L.row(lo).transpose(), L.row(hi).transpose()};
+}
+
+// the area centroid of one loop (mm), or its first point when it has no area
+Eigen::Vector2d loop_centre(const LoopMat& L) {
+  const FootprintSpan s = footprint_span({L}, 0.0);
+  return s.valid ? s.centroid : Eigen::Vector2d(L.row(0).transpose());
+}
+
+// between two footprints of several loops: each loop of `a` and the loop of `b` whose centre is
+// nearest its own, joined by the band of their support points across the move between them
+void pair_bands(const Loops& a, const Loops& b, Loops& out) {
+  if (b.empty()) return;
+  std::vector<Eigen::Vector2d> cb;
+  for (const auto& L : b) cb.push_back(loop_centre(L));
+  for (const auto& L : a) {
+    const Eigen::Vector2d ca = loop_centre(L);
+    std::size_t j = 0;
+    for (std::size_t i = 1; i < cb.size(); ++i)
+      if ((cb[i] - ca).squaredNorm() < (cb[j] - ca).squaredNorm()) j = i;
+    const Eigen::Vector2d move = cb[j] - ca;
+    if (move.norm() <= kStill) continue;
+    const auto [ra, la] = support(L, move.normalized());
+    const auto [rb, lb] = support(b[j], move.normalized());
+    out.push_back(ccw_polygon({ra, rb, lb, la}));
   }
 }
 
-// the bands of a sweep whose every footprint has one run facing its move, as one polygon: the
-// first run, the path of the runs' last points (each slid), the last run slid and walked back,
-// the path of the runs' first points (each slid) back to the start.  The intermediate runs lie
-// inside it while the footprint moves much as it translates, which the blends' count keeps
-void envelope(const std::vector<Run>& runs, const std::vector<Eigen::Vector2d>& shifts, Loops& out) {
-  std::vector<Eigen::Vector2d> pts(runs.front());
-  const std::size_t K = runs.size();
-  for (std::size_t k = 0; k < K; ++k) pts.push_back(runs[k].back() + shifts[k]);
-  for (auto it = runs[K - 1].rbegin() + 1; it != runs[K - 1].rend(); ++it) pts.push_back(*it + shifts[K - 1]);
-  for (std::size_t k = K; k-- > 0;) pts.push_back(runs[k].front() + shifts[k]);
+// the band a sweep of one-loop footprints covers between its two ends, moving along `dir` (unit):
+// the path of each footprint's rightmost point across the move, then back along the path of
+// their leftmost points.  For a footprint that translates this, with the two ends, is the sweep
+// exactly (the sides of a translated region are the paths of its support points); the blends'
+// count keeps the motion close enough to a translation between two of them
+void support_band(const std::vector<Loops>& loops, const Eigen::Vector2d& dir, Loops& out) {
+  std::vector<Eigen::Vector2d> right, left;
+  for (const Loops& ls : loops) {
+    const auto [r, l] = support(ls.front(), dir);
+    right.push_back(r);
+    left.push_back(l);
+  }
+  std::vector<Eigen::Vector2d> pts(right);
+  pts.insert(pts.end(), left.rbegin(), left.rend());
   out.push_back(ccw_polygon(pts));
 }
 
@@ -198,27 +197,22 @@ Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const Swe
     loops[k] = footprint_loops(p.mesh);
     spans[k] = footprint_span(loops[k], 0.0);
   }
-  std::vector<std::vector<Run>> runs(K);
-  std::vector<Eigen::Vector2d> shifts(K, Eigen::Vector2d::Zero());
-  bool single = true;  // every footprint one loop with one run facing its move
-  for (int k = 0; k < K; ++k) {
-    if (spans[k].valid && spans[k + 1].valid) shifts[k] = spans[k + 1].centroid - spans[k].centroid;
-    runs[k] = facing_runs(loops[k], shifts[k]);
-    single = single && loops[k].size() == 1 && runs[k].size() == 1;
-  }
-  // the two ends, and between them the envelope of the bands, or (a footprint of several loops,
-  // or of several runs) every footprint and its band
+  // the two ends, and between them the support band of one-loop footprints, or (a footprint
+  // of several loops, or none) every footprint and the bands of its runs facing its move
   out = loops[0];
   out.insert(out.end(), loops[K].begin(), loops[K].end());
+  bool single = true;
+  for (const Loops& l : loops) single = single && l.size() == 1;
   if (single) {
-    std::vector<Run> one(K);
-    for (int k = 0; k < K; ++k) one[k] = std::move(runs[k][0]);
-    envelope(one, shifts, out);
+    const Eigen::Vector2d move = spans[K].centroid - spans[0].centroid;
+    if (move.norm() > kStill) support_band(loops, move.normalized(), out);
     return out;
   }
+  // several loops: each loop's band to the loop of the next footprint nearest it, and every
+  // footprint whose count of loops differs from the last one's (a loop appears, splits or goes)
   for (int k = 0; k < K; ++k) {
-    if (k > 0) out.insert(out.end(), loops[k].begin(), loops[k].end());
-    slid_band(runs[k], shifts[k], out);
+    if (k > 0 && loops[k].size() != loops[k - 1].size()) out.insert(out.end(), loops[k].begin(), loops[k].end());
+    pair_bands(loops[k], loops[k + 1], out);
   }
   return out;
 }
