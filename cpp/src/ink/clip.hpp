@@ -14,5 +14,8 @@ Loops to_loops(const ClipperLib::Paths& paths);
 ClipperLib::Paths to_paths(const Loops& loops);
 // the union (winding > 0) of paths
 ClipperLib::Paths unite(const ClipperLib::Paths& paths);
+// the region closed and opened by a disc of radius r mm (grown by r, shrunk by 2 r, grown by r):
+// slits and slivers thinner than 2 r go, corners round to radius r, the rest stays
+ClipperLib::Paths clean(const ClipperLib::Paths& paths, double r_mm);
 
 }  // namespace brushwork::clip

@@ -53,6 +53,25 @@ ClipperLib::Paths unite(const ClipperLib::Paths& paths) {
   return out;
 }
 
+namespace {
+
+// paths offset by d mm, corners rounded
+ClipperLib::Paths offset(const ClipperLib::Paths& paths, double d_mm) {
+  ClipperLib::ClipperOffset co;
+  co.ArcTolerance = 0.05 * std::abs(d_mm) * kUnitsPerMm;  // the rounded corners' chords stray d / 20 from the arc
+  co.AddPaths(paths, ClipperLib::jtRound, ClipperLib::etClosedPolygon);
+  ClipperLib::Paths out;
+  co.Execute(out, d_mm * kUnitsPerMm);
+  return out;
+}
+
+}  // namespace
+
+ClipperLib::Paths clean(const ClipperLib::Paths& paths, double r_mm) {
+  // closing (grow, shrink), then opening (shrink, grow)
+  return offset(offset(offset(paths, r_mm), -2.0 * r_mm), r_mm);
+}
+
 }  // namespace clip
 
 namespace {

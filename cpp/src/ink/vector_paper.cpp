@@ -26,6 +26,8 @@ constexpr double kMeshMm = 0.25;
 constexpr int kMeshRings = 8, kMeshAround = 96;
 constexpr double kResolutionFree = 1e6;  // px/mm handed to mesh_options_for: no pixel floor
 
+constexpr double kCleanTol = 5.0;  // the strokes' clean-up radius, in sweep tolerances
+
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -178,6 +180,11 @@ void VectorPaper::end_stroke() {
 void VectorPaper::flush_stroke() {
   if (!open_) return;
   if (!open_->groups.empty()) {
+    // where a footprint's support point jumps from one blend or deposit to the next, the bands
+    // and the footprints meet in slits and spikes a few hundredths of a mm thick: features the
+    // brush does not make, which a closing and opening by kCleanTol tol take off (the corners
+    // round to that radius, 0.25 px at 10 px/mm)
+    for (Group& g : open_->groups) g.paths = clip::clean(g.paths, kCleanTol * tol_.tol_mm);
     strokes_.push_back(std::move(*open_));
   }
   open_.reset();
