@@ -195,3 +195,28 @@ def test_an_open_loop_s_curve_leaves_a_smooth_contour():
     assert area([outer]) > 100.0
     assert turns <= 3, turns
     assert deviation <= 0.3, deviation
+
+
+def test_render_writes_the_outlines_as_svg_and_pdf(tmp_path, capsys):
+    import re
+
+    from brushwork import cli
+
+    svg, pdf = tmp_path / "yi.svg", tmp_path / "yi.pdf"
+    assert cli.main(["render", "一", "-o", str(svg), "--size", "256"]) == 0
+    assert cli.main(["render", "一", "-o", str(pdf), "--size", "256"]) == 0
+    text = svg.read_text()
+    assert text.startswith("<svg") and 'viewBox="0 0 100 100"' in text
+    loops = [np.array(re.findall(r"[ML]([-\d.]+) ([-\d.]+)", d), dtype=float) for d in re.findall(r"M[^Z]*Z", text)]
+    paper = VectorPaper(100, 100, 2.56)
+    from brushwork.batch import text_paper
+    from brushwork.glyphs import load_source
+
+    ref = text_paper([load_source("default", "一")["一"]], 256, "kai", ink="geometry").outlines()
+    # (svg's y runs down: the area's sign turns, its size stays)
+    assert abs(area(loops)) == pytest.approx(abs(area(ref)), rel=1e-3) and abs(area(ref)) > 50.0
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF-1.4") and data.rstrip().endswith(b"%%EOF") and b"/MediaBox" in data
+    assert cli.main(["render", "一", "-o", str(tmp_path / "x.svg"), "--ink", "gl"]) == 2
+    assert "vector outlines come from the ink's geometry" in capsys.readouterr().err
+    assert paper.outlines() == []

@@ -179,17 +179,18 @@ def _image_args(p: argparse.ArgumentParser) -> None:
 
 
 def _ink_args(p: argparse.ArgumentParser) -> None:
-    p.add_argument("--ink", default="gl", choices=("auto", "geometry", "gl"),
-                   help="how the ink is made: gl (default: the EGL footprint pass), geometry (exact outlines in mm "
-                        "swept continuously between frames, rasterised without GL; several times slower than gl "
-                        "on a kai character) or auto (geometry unless the style's scene has split, dry or grain "
-                        "maps, a soaked tip or a colour ramp)")
+    p.add_argument("--ink", default=None, choices=("auto", "geometry", "gl"),
+                   help="how the ink is made: gl (the EGL footprint pass; the default for images), geometry (exact "
+                        "outlines in mm swept continuously between frames, rasterised without GL; the default for "
+                        ".svg and .pdf) or auto (geometry unless the style's scene has split, dry or grain maps, a "
+                        "soaked tip or a colour ramp)")
 
 
 def _render_text_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("text", help="the characters to write, left to right on one image (spaces ignored)")
     p.add_argument("-o", "--output", metavar="FILE", required=True,
-                   help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp")
+                   help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp, "
+                        "or the ink's outlines as .svg or .pdf")
     _look_args(p)
     _image_args(p)
     p.add_argument("--stats", metavar="FILE", help="also write the writing's figures as JSON to FILE: frames, "
@@ -199,16 +200,25 @@ def _render_text_args(p: argparse.ArgumentParser) -> None:
 
 def _render_text(args: argparse.Namespace) -> int:
     from .batch import check_request, text_chars, text_paper, writing_stats
+    from .files import check_image_path, check_writable, save_paper
+    from .ink import VECTOR_FORMATS, write_vectors
     from .paper import ink_path
     from .scene import Scene
-    from .files import check_image_path, save_paper
     from .writing import Style
 
     chars = text_chars(args.text)
     check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
-    ink_path(Scene(**style.scene), args.ink)
-    check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
+    vectors = os.path.splitext(args.output)[1].lower() in VECTOR_FORMATS
+    ink = args.ink or ("geometry" if vectors else "gl")
+    if vectors and ink_path(Scene(**style.scene), ink) != "geometry":
+        raise ValueError(f"{args.output}: vector outlines come from the ink's geometry; --ink {ink} takes the "
+                         f"GL pass for style {style.name}")
+    ink_path(Scene(**style.scene), ink)
+    if vectors:
+        check_writable(args.output)
+    else:
+        check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
     if args.stats:
         from .bench.report import check_writable, write_json
 
@@ -216,9 +226,11 @@ def _render_text(args: argparse.Namespace) -> int:
     glyphs = _load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     counts: dict = {}
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=args.ink)
-    path = save_paper(paper, args.output, bits=args.bits,
-                      background="transparent" if args.transparent else "white")
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=ink)
+    if vectors:
+        path = write_vectors(paper, args.output)
+    else:
+        path = save_paper(paper, args.output, bits=args.bits, background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({_plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
     if args.stats:
@@ -284,7 +296,7 @@ def _batch(args: argparse.Namespace) -> int:
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples, executor=args.executor,
-                          ink=args.ink)
+                          ink=args.ink or "gl")
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
