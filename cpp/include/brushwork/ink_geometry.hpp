@@ -86,6 +86,12 @@ class VectorPaper {
  private:
   struct Stroke;
   struct Layer;
+  void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
+  // a new stroke (starts) or the open one, in the ink's colour
+  void open_stroke(const Ink* ink, bool starts, DepositStats& stats);
+  // tuft k's region since `last` (null: it starts here) into the open stroke; its ink spent
+  void deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
+                    DepositStats& stats);
   void flush_stroke();
   std::vector<Layer> layers();  // consecutive strokes of one colour and density, unioned
   void composite(const std::function<void(int row, const float* rgba)>& put);

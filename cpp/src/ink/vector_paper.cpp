@@ -115,28 +115,14 @@ MeshOptions VectorPaper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, kResolutionFree, kMeshMm, kMeshRings, kMeshAround);
 }
 
-DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
-  const int nodes = brush.model().n_segments + 1;
-  if (ink != nullptr) ink->validate(nodes);
+void VectorPaper::check_deposit(const Brush& brush, const Ink* ink) const {
+  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
   if (scene_.depletion && ink == nullptr)
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
-  const auto t0 = std::chrono::steady_clock::now();
-  DepositStats stats;
-  const std::vector<const Brush*> tufts = brush.tufts();
-  std::vector<SurfaceMesh> cur;
-  for (const Brush* t : tufts) {
-    cur.push_back(sweep_mesh(*t, mesh_options(t->model())));
-    stats.contact = stats.contact || below_paper(cur.back());
-  }
-  if (!stats.contact) {
-    end_stroke();
-    return stats;
-  }
-  const bool same = stroke_open_ && last_brush_ == &brush;
-  auto swept = [&](std::size_t k) {
-    return same && k < last_.size() && last_tufts_[k] == tufts[k] && last_[k].vertices.rows() == cur[k].vertices.rows();
-  };
-  if (!swept(0)) {
+}
+
+void VectorPaper::open_stroke(const Ink* ink, bool starts, DepositStats& stats) {
+  if (starts) {
     flush_stroke();
     stats.new_stroke = true;
     wet_->ledger.clear();
@@ -149,19 +135,47 @@ DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
     open_->color = color;
   }
   stroke_color_ = color;
-  for (std::size_t k = 0; k < tufts.size(); ++k) {
-    int samples = 0;
-    const bool s = swept(k);
-    const Loops region = swept_footprint(s ? last_[k] : cur[k], cur[k], tol_, &samples);
-    if (k == 0) stats.substeps = samples;
-    const double density = scene_.depletion ? ink_density(*tufts[k]) : 1.0;
-    if (!region.empty()) {
-      if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}});
-      open_->groups.back().add(region);
-      stats.drawn = true;
-    }
-    if (scene_.depletion) stats.deposited += wet_->ledger.add(*tufts[k], s, k, density * stroke_color_[3]);
+}
+
+void VectorPaper::deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
+                               DepositStats& stats) {
+  // the region swept since the last deposit (a still footprint when the tuft starts here), at
+  // the density its wetness gives
+  int samples = 0;
+  const Loops region = swept_footprint(last != nullptr ? *last : cur, cur, tol_, &samples);
+  if (k == 0) stats.substeps = samples;
+  const double density = scene_.depletion ? ink_density(tuft) : 1.0;
+  if (!region.empty()) {
+    if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}});
+    open_->groups.back().add(region);
+    stats.drawn = true;
   }
+  if (scene_.depletion) stats.deposited += wet_->ledger.add(tuft, last != nullptr, k, density * stroke_color_[3]);
+}
+
+DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
+  check_deposit(brush, ink);
+  const auto t0 = std::chrono::steady_clock::now();
+  DepositStats stats;
+  const std::vector<const Brush*> tufts = brush.tufts();
+  std::vector<SurfaceMesh> cur;
+  for (const Brush* t : tufts) {
+    cur.push_back(sweep_mesh(*t, mesh_options(t->model())));
+    stats.contact = stats.contact || below_paper(cur.back());
+  }
+  if (!stats.contact) {
+    end_stroke();
+    return stats;
+  }
+  // each tuft sweeps from its own last deposit while the stroke goes on and it was there
+  const bool same = stroke_open_ && last_brush_ == &brush;
+  auto last = [&](std::size_t k) -> const SurfaceMesh* {
+    const bool was = same && k < last_.size() && last_tufts_[k] == tufts[k] &&
+                     last_[k].vertices.rows() == cur[k].vertices.rows();
+    return was ? &last_[k] : nullptr;
+  };
+  open_stroke(ink, last(0) == nullptr, stats);
+  for (std::size_t k = 0; k < tufts.size(); ++k) deposit_tuft(*tufts[k], last(k), cur[k], k, stats);
   if (stats.drawn) stats.pressure = node_pressure(brush);
   stroke_open_ = true;
   last_brush_ = &brush;
@@ -241,51 +255,59 @@ Loops VectorPaper::outlines() {
   return clip::to_loops(clip::unite(all));
 }
 
+namespace {
+
+// a layer's ink over the paper: the densest of its groups' coverage at each pixel
+void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, std::vector<float>& cov,
+                 std::vector<float>& alpha) {
+  const std::size_t N = static_cast<std::size_t>(W) * H;
+  alpha.assign(N, 0.0f);
+  cov.resize(N);
+  for (const Group& g : groups) {
+    coverage(clip::to_loops(g.paths), ppm, W, H, cov.data());
+    const float d = static_cast<float>(g.density);
+    for (std::size_t i = 0; i < N; ++i) alpha[i] = std::max(alpha[i], d * cov[i]);
+  }
+}
+
+// one row of a single layer's premultiplied RGBA: its straight colour times its alpha
+void layer_row(const std::array<float, 4>& color, const float* a, int W, float* row) {
+  for (int x = 0; x < W; ++x) {
+    const float s = a[x] * color[3];
+    for (int c = 0; c < 3; ++c) row[4 * x + c] = color[c] * s;
+    row[4 * x + 3] = s;
+  }
+}
+
+}  // namespace
+
 void VectorPaper::composite(const std::function<void(int row, const float* rgba)>& put) {
-  // each layer's coverage (the densest of its groups over a pixel) composited over the last,
-  // premultiplied: P = L + P (1 - L_a); rows handed out from the top
+  // each layer's ink composited over the last, premultiplied: P = L + P (1 - L_a); one layer (a
+  // paper of one ink) goes out row by row without the RGBA plane
   const std::vector<Layer> ls = layers();
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t N = static_cast<std::size_t>(W_) * H_;
-  std::vector<float> rgba(ls.size() == 1 ? 0 : 4 * N, 0.0f), cov(N), best;
-  std::vector<float> row(4 * static_cast<std::size_t>(W_));
-  for (std::size_t li = 0; li < ls.size(); ++li) {
-    const Layer& l = ls[li];
-    best.assign(l.groups.size() > 1 ? N : 0, 0.0f);
-    for (const Group& g : l.groups) {
-      coverage(clip::to_loops(g.paths), ppm_, W_, H_, cov.data());
-      const float d = static_cast<float>(g.density);
-      if (l.groups.size() > 1)
-        for (std::size_t i = 0; i < N; ++i) best[i] = std::max(best[i], d * cov[i]);
-      else if (d != 1.0f)
-        for (std::size_t i = 0; i < N; ++i) cov[i] *= d;
+  std::vector<float> cov, alpha, rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
+  if (ls.size() <= 1) {
+    if (!ls.empty()) layer_alpha(ls[0].groups, ppm_, W_, H_, cov, alpha);
+    for (int y = 0; y < H_; ++y) {
+      if (!ls.empty()) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y) * W_], W_, row.data());
+      put(y, row.data());
     }
-    const std::vector<float>& a = l.groups.size() > 1 ? best : cov;
-    if (ls.size() == 1) break;  // a single layer goes straight out below
+    raster_s_ = seconds_since(t0);
+    return;
+  }
+  rgba.assign(4 * N, 0.0f);
+  for (const Layer& l : ls) {
+    layer_alpha(l.groups, ppm_, W_, H_, cov, alpha);
     for (std::size_t i = 0; i < N; ++i) {
-      const float s = a[i] * l.color[3];
+      const float s = alpha[i] * l.color[3];
       float* P = &rgba[4 * i];
       for (int c = 0; c < 3; ++c) P[c] = l.color[c] * s + P[c] * (1.0f - s);
       P[3] = s + P[3] * (1.0f - s);
     }
   }
-  for (int y = 0; y < H_; ++y) {
-    if (ls.size() == 1) {
-      const Layer& l = ls[0];
-      const float* a = (l.groups.size() > 1 ? best.data() : cov.data()) + static_cast<std::size_t>(y) * W_;
-      for (int x = 0; x < W_; ++x) {
-        const float s = a[x] * l.color[3];
-        for (int c = 0; c < 3; ++c) row[4 * x + c] = l.color[c] * s;
-        row[4 * x + 3] = s;
-      }
-      put(y, row.data());
-    } else if (ls.empty()) {
-      std::fill(row.begin(), row.end(), 0.0f);
-      put(y, row.data());
-    } else {
-      put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
-    }
-  }
+  for (int y = 0; y < H_; ++y) put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
   raster_s_ = seconds_since(t0);
 }
 
