@@ -236,10 +236,10 @@ Vec3 tip_axis(const Ring& last, const Vec3& n) {
 }
 
 // The tip cap beyond the last section Omega_n: each radius r continues with its slope m there
-// (d radius / d arc) and closes at the apex, a distance len along the axis, as
+// (d radius / d arc) and closes at the apex, the tip length len along the axis, as
 //   r(z) = sqrt(1 - z / len) (r + b z),  b = m + r / (2 len)
-// (slope m at z = 0, a rounded end at z = len).  len is the default tip length, shortened to
-// r / |m| where a radius falls toward the tip, so that no radius reaches zero before the apex
+// (slope m at z = 0, a rounded end at z = len).  A radius falling faster than r / len toward the
+// tip takes that slope (r + b z stays above r / 2: no radius reaches zero before the apex)
 struct TipCap {
   Ring last;
   Vec3 axis;
@@ -249,11 +249,10 @@ struct TipCap {
 
 TipCap tip_cap(const Ring& last, const Vec3& axis, double tip_len, double m_ap, double m_am, double m_cr) {
   TipCap cap{last, axis, tip_len};
-  for (auto [r, m] : {std::pair{last.ap, m_ap}, std::pair{last.am, m_am}, std::pair{last.cr, m_cr}})
-    if (m < 0.0) cap.len = std::min(cap.len, r / -m);
-  cap.b_ap = m_ap + last.ap / (2.0 * cap.len);
-  cap.b_am = m_am + last.am / (2.0 * cap.len);
-  cap.b_cr = m_cr + last.cr / (2.0 * cap.len);
+  auto b = [tip_len](double r, double m) { return std::max(m, -r / tip_len) + r / (2.0 * tip_len); };
+  cap.b_ap = b(last.ap, m_ap);
+  cap.b_am = b(last.am, m_am);
+  cap.b_cr = b(last.cr, m_cr);
   return cap;
 }
 
