@@ -95,18 +95,12 @@ VectorPaper::VectorPaper(double width_mm, double height_mm, double px_per_mm, co
     throw std::invalid_argument(
         "ink geometry: the scene uses a split, dry or grain map, a soaked tip or a colour ramp; those need the GL "
         "footprint pass (ink='gl')");
-  checks::positive("width_mm", width_mm);
-  checks::positive("height_mm", height_mm);
-  checks::positive("px_per_mm", px_per_mm);
   if (!(tol_.tol_mm > 0.0) || tol_.max_samples < 1)
     throw std::invalid_argument("ink geometry: tol_mm must be > 0 and max_samples >= 1");
   // the pixel size a Paper of these millimetres has
-  const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
-  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
-    throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
-                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
-  W_ = static_cast<int>(w);
-  H_ = static_cast<int>(h);
+  const auto [w, h] = checks::paper_pixels(width_mm, height_mm, px_per_mm, kMaxPaperPx);
+  W_ = w;
+  H_ = h;
 }
 
 VectorPaper::~VectorPaper() = default;

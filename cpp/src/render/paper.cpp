@@ -92,16 +92,10 @@ void SceneFeatures::validate() const {
 Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
              int tile_px)
     : scene_(scene), width_mm_(width_mm), height_mm_(height_mm), ppm_(px_per_mm) {
-  checks::positive("width_mm", width_mm);
-  checks::positive("height_mm", height_mm);
-  checks::positive("px_per_mm", px_per_mm);
+  const auto [w, h] = checks::paper_pixels(width_mm, height_mm, px_per_mm, kMaxPaperPx);
   scene_.validate();
-  const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
-  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
-    throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
-                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
-  W_ = static_cast<int>(w);
-  H_ = static_cast<int>(h);
+  W_ = w;
+  H_ = h;
   if (tile_px != 0 && (tile_px < kMinTilePx || tile_px > kMaxTilePx))
     throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or " +
                                 std::to_string(kMinTilePx) + ".." + std::to_string(kMaxTilePx));
