@@ -209,7 +209,7 @@ def test_render_writes_the_outlines_as_svg_and_pdf(tmp_path, capsys):
     assert text.startswith("<svg") and 'viewBox="0 0 100 100"' in text
     loops = [np.array(re.findall(r"[ML]([-\d.]+) ([-\d.]+)", d), dtype=float) for d in re.findall(r"M[^Z]*Z", text)]
     paper = VectorPaper(100, 100, 2.56)
-    from brushwork.batch import text_paper
+    from brushwork.writing import text_paper
     from brushwork.glyphs import load_source
 
     ref = text_paper([load_source("default", "一")["一"]], 256, "kai", ink="geometry").outlines()

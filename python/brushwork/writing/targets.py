@@ -62,16 +62,3 @@ def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
     if family(kind) in ("plain", "hook"):
         width *= 1.0 + style.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
     return path, s, heading, width
-
-
-def beaded(widths_mm) -> bool:
-    """A bead at a stroke's end: the footprint's widths (mm, one a frame from the first touch to
-    the lift) dip over their last 30% and then grow to 1.6 times the dip and 0.4 mm over it (a
-    bulb after a neck, as a soft tip that folded is pressed down again)."""
-    low = np.inf
-    widths = np.asarray(widths_mm, dtype=float)
-    for w in widths[int(0.7 * len(widths)):]:
-        low = min(low, w)
-        if w >= 1.6 * low and w >= low + 0.4:
-            return True
-    return False
