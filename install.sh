@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Install what brushwork needs on a Debian/Ubuntu machine (apt: Eigen, EGL/GL headers and Mesa's
+# Install what brushwork needs on a Debian/Ubuntu machine (apt: Eigen, Clipper, EGL/GL headers and Mesa's
 # software renderer, a C++ compiler, CMake, the AR PL UKai reference font for contact sheets, and
 # python3-venv where Python's venv lacks pip), make a virtual environment .venv beside this script
 # and install the package into it with its test and schema extras, KanjiVG's strokes, trimesh (outline), the font and paint
@@ -13,7 +13,7 @@ cd "$(dirname "$0")"
 PYTHON="${PYTHON:-python3}"
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-pkgs="libeigen3-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri g++ cmake fonts-arphic-ukai"
+pkgs="libeigen3-dev libpolyclipping-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri g++ cmake fonts-arphic-ukai"
 # Debian's Python makes a venv with pip only when python3-venv (ensurepip) is installed
 "$PYTHON" -c "import ensurepip, venv" >/dev/null 2>&1 || pkgs="$pkgs python3-venv"
 missing=""

@@ -8,10 +8,12 @@ namespace py = pybind11;
 void bind_model(py::module_& m);
 void bind_brush(py::module_& m);
 void bind_render(py::module_& m);
+void bind_ink(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
   m.doc() = "brushwork C++ core: the Chu-Tai brush tuft, its SQP dynamics and geometry, and its EGL renderer";
   bind_model(m);
   bind_brush(m);
   bind_render(m);
+  bind_ink(m);
 }

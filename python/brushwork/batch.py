@@ -18,7 +18,9 @@ import numpy as np
 from .files import check_bits, decodes, os_error_text, save_paper
 from .glyphs import load_source
 from .glyphs.sources import add_source_hint
+from .paper import ink_path
 from .pool import Progress, check_executor, parallel_map
+from .scene import Scene
 from .writing import Style, check_samples, check_seed, check_size, text_paper
 
 
@@ -31,12 +33,13 @@ def output_name(char: str) -> str:
 _JOB: dict = {}
 
 
-def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None) -> None:
+def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None,
+                 ink: str = "gl") -> None:
     # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
     # size and scene: drop it
     _JOB.clear()
     _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
-                samples=samples)
+                samples=samples, ink=ink)
 
 
 def _render_one(task: tuple) -> tuple:
@@ -46,7 +49,7 @@ def _render_one(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], _JOB["samples"],
-                           paper=_JOB.get("paper"))
+                           paper=_JOB.get("paper"), ink=_JOB["ink"])
         _JOB["paper"] = paper
         save_paper(paper, out, bits=_JOB["bits"], background=_JOB["background"])
     except Exception as err:     # reported at the end with the character; the batch goes on
@@ -73,12 +76,12 @@ class BatchResult:
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None,
-              executor: str = "local") -> BatchResult:
+              executor: str = "local", ink: str = "gl") -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
     (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
     check_executor(executor)
     size, bits, seed, samples = check_size(size), check_bits(bits), check_seed(seed), check_samples(samples)
-    Style.load(style)                                        # a bad style fails now, not in every worker
+    ink_path(Scene(**Style.load(style).scene), ink)           # a bad style or ink fails now, not in every worker
     jobs = int(jobs)
     if jobs < 1:
         raise ValueError(f"--jobs {jobs}: expected >= 1")
@@ -90,7 +93,7 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
-    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress, executor)
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples, ink), result, progress, executor)
     return result
 
 

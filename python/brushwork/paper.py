@@ -11,7 +11,7 @@ import numpy as np
 
 from . import _core
 from .files import write_image
-from .scene import Scene
+from .scene import TEXTURED, Scene
 
 _BACKGROUNDS = ("white", "transparent")
 
@@ -31,23 +31,44 @@ def _check_image(bits: int, background: str) -> None:
         raise ValueError(f"background = {background!r}: expected one of {_BACKGROUNDS}")
 
 
+#: how a paper takes its ink: "geometry" (contours in mm, rasterised with exact coverage, no GL),
+#: "gl" (the EGL footprint pass) or "auto" (geometry where the scene is opaque)
+INK_PATHS = ("auto", "geometry", "gl")
+_LAST_INK = {"ink": None}
+
+
+def ink_path(scene: _core.SceneFeatures, ink: str = "auto") -> str:
+    """The path a paper of `scene` takes for `ink`: auto picks geometry for an opaque scene (no
+    split, dry or grain map, soaked tip or colour ramp), else gl; geometry refuses a textured scene."""
+    if ink not in INK_PATHS:
+        raise ValueError(f"ink {ink!r}: expected one of {', '.join(INK_PATHS)}")
+    textured = [name for name in TEXTURED if getattr(scene, name)]
+    if ink == "geometry" and textured:
+        raise ValueError(f"ink 'geometry': the scene uses {', '.join(textured)}, which need ink 'gl' (or 'auto')")
+    if ink == "auto":
+        return "gl" if textured else "geometry"
+    return ink
+
+
 def render_info() -> dict:
-    """Which EGL path rendering takes (backend, device, GL renderer); opens the context."""
-    return _core.RenderContext.acquire().info
+    """Which path the last paper made in this process took (`ink`: geometry, gl or None) and, unless
+    it was geometry (which needs no GL), the EGL path (backend, device, GL renderer; opens the context)."""
+    if _LAST_INK["ink"] == "geometry":
+        return {"ink": "geometry", "backend": "none"}
+    return dict(_core.RenderContext.acquire().info, ink=_LAST_INK["ink"])
 
 
-class Paper(_core.Paper):
-    """A canvas `width_mm` x `height_mm` sampled at `px_per_mm`, with the features of `scene`.
+def make_paper(width_mm: float, height_mm: float, px_per_mm: float = 10.0,
+               scene: _core.SceneFeatures | None = None, ink: str = "auto") -> "Paper | VectorPaper":
+    """A paper of `scene` whose ink takes the path `ink` chooses (see ink_path)."""
+    scene = scene if scene is not None else Scene()
+    if ink_path(scene, ink) == "geometry":
+        return VectorPaper(width_mm, height_mm, px_per_mm, scene)
+    return Paper(width_mm, height_mm, px_per_mm, scene)
 
-    ``deposit(brush)`` lays down the ink under the brush, swept from its last deposit while it
-    stays on the paper; a deposit with the brush in the air ends the stroke. ``undo()`` removes
-    the last stroke (one level); ``clear()`` empties the paper.
-    """
 
-    def __init__(self, width_mm: float, height_mm: float, px_per_mm: float = 10.0,
-                 scene: _core.SceneFeatures | None = None, tile_px: int = 0):
-        super().__init__(float(width_mm), float(height_mm), float(px_per_mm),
-                         scene if scene is not None else Scene(), int(tile_px))
+class _Faces:
+    """What every paper says in Python: deposit with the brush's ink, images, PNG out."""
 
     def deposit(self, brush, ink: _core.Ink | None = None) -> _core.DepositStats:
         """Ink under `brush` (its own `brush.ink` unless `ink` is given)."""
@@ -69,6 +90,28 @@ class Paper(_core.Paper):
         Returns the path."""
         _check_image(bits, background)
         return write_image(path, self._image(bits, background == "white", True))
+
+    def __repr__(self) -> str:
+        return (f"{type(self).__name__}({self.width_mm} x {self.height_mm} mm, {self.width_px} x {self.height_px} px, "
+                f"{self.scene!r})")
+
+
+class Paper(_Faces, _core.Paper):
+    """A canvas `width_mm` x `height_mm` sampled at `px_per_mm`, with the features of `scene`,
+    inked by the EGL footprint pass.
+
+    ``deposit(brush)`` lays down the ink under the brush, swept from its last deposit while it
+    stays on the paper; a deposit with the brush in the air ends the stroke. ``undo()`` removes
+    the last stroke (one level); ``clear()`` empties the paper.
+    """
+
+    inked_by = "gl"
+
+    def __init__(self, width_mm: float, height_mm: float, px_per_mm: float = 10.0,
+                 scene: _core.SceneFeatures | None = None, tile_px: int = 0):
+        super().__init__(float(width_mm), float(height_mm), float(px_per_mm),
+                         scene if scene is not None else Scene(), int(tile_px))
+        _LAST_INK["ink"] = "gl"
 
     def load(self, path: str | os.PathLike) -> None:
         """Replace the paper by a PNG of the same pixel size. An image with alpha is taken as
@@ -99,3 +142,24 @@ class Paper(_core.Paper):
     def __repr__(self) -> str:
         return (f"Paper({self.width_mm} x {self.height_mm} mm, {self.width_px} x {self.height_px} px, "
                 f"{self.tiles} tile(s), {self.scene!r})")
+
+
+class VectorPaper(_Faces, _core.VectorPaper):
+    """A paper whose ink is geometry: what the brush leaves, swept continuously between frames, is
+    kept as closed contours in mm (``outlines()``), unioned stroke by stroke, and rasterised with
+    exact area coverage when an image is asked for; no GL context. Opaque scenes only (see
+    `ink_path`); deposits, strokes and undo as on a `Paper`."""
+
+    inked_by = "geometry"
+
+    def __init__(self, width_mm: float, height_mm: float, px_per_mm: float = 10.0,
+                 scene: _core.SceneFeatures | None = None, tol_mm: float = 0.005):
+        super().__init__(float(width_mm), float(height_mm), float(px_per_mm),
+                         scene if scene is not None else Scene(), _core.SweepTolerance(float(tol_mm)))
+        _LAST_INK["ink"] = "geometry"
+
+    def outlines(self) -> list:
+        """The ink as closed contours: a list of (k, 2) float64 arrays in mm (x right, y up, the
+        paper's bottom-left corner at 0), outer loops counter-clockwise, holes clockwise, none
+        overlapping; the same at any px_per_mm."""
+        return super().outlines()

@@ -11,6 +11,9 @@ from . import _core
 #: feature switches, in the order the seed introduces them
 FEATURES = ("split_map", "dry_map", "grain", "soaked_tip", "color_ramp", "depletion")
 
+#: the features only the GL footprint pass draws (a scene without them is opaque: its ink is geometry)
+TEXTURED = ("split_map", "dry_map", "grain", "soaked_tip", "color_ramp")
+
 #: tuning fields: name -> (unit, meaning)
 PARAMETERS = {
     "dry_onset": ("-", "wetness below which the dry map opens streaks"),
@@ -57,6 +60,10 @@ class Scene(_core.SceneFeatures):
     def full(cls, **settings) -> "Scene":
         """Every feature on (split, dry, grain, soaked tip, colour ramp, depletion)."""
         return cls(**{name: True for name in FEATURES}, **settings)
+
+    def opaque(self) -> bool:
+        """No split, dry or grain map, soaked tip or colour ramp: the ink is a region of the paper."""
+        return not any(getattr(self, name) for name in TEXTURED)
 
     def features(self) -> list[str]:
         """The names of the features switched on."""

@@ -136,12 +136,15 @@ struct DepositStats {
 // tip, the excess moisture drained by the distance travelled in contact.
 void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, Brush& brush);
 
+// depletion: the density in [0, 1] a tuft's footprint reaches the paper at, from its nodes' wetness
+double ink_density(const Brush& tuft);
+
 // ---------------------------------------------------------------------------------------------
 // paper
 
 class FootprintPass;  // internal
 class StrokeFrame;    // internal
-class WetArea;        // internal
+class WetLedger;      // internal
 struct PaperTile;        // internal
 
 // A canvas of float ink: premultiplied RGBA, alpha = ink coverage.  Strokes go first into a
@@ -214,9 +217,7 @@ class Paper {
   // tuft k's deposit: drawn, and with depletion the ink it gave the paper counted in stats
   void deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, bool swept,
                     const Brush& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats);
-  // depletion: the density [0, 1] a tuft's footprint is drawn at, from its nodes' wetness
-  static double ink_density(const Brush& tuft);
-  // ... and the mm^2 of full-density ink tuft k gave the paper in this deposit at that density
+  // depletion: the mm^2 of full-density ink tuft k gave the paper in this deposit at that density
   double wet_gain(const Brush& tuft, bool swept, std::size_t k, double density);
   void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
   void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
@@ -246,13 +247,7 @@ class Paper {
   std::array<int, 4> undo_rect_{{0, 0, 0, 0}};
   std::vector<float> undo_pixels_;
   // depletion: the paper this stroke has wetted, and each tuft's footprint at its last deposit
-  // (the main tuft first; no loops: none in this stroke)
-  struct WetFootprint {
-    Loops loops;                                   // mm
-    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // mm, the loops' area centroid
-  };
-  std::unique_ptr<WetArea> wet_;
-  std::vector<WetFootprint> wet_last_;
+  std::unique_ptr<WetLedger> wet_;
   bool undo_available_ = false;
 };
 

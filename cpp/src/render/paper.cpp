@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #if defined(__SSE2__)
-#include <xmmintrin.h>
 #endif
 #include <cmath>
 #include <limits>
@@ -17,6 +16,7 @@
 #include "render_mesh.hpp"
 #include "shaders.hpp"
 #include "stroke_frame.hpp"
+#include "pixels.hpp"
 #include "wet_area.hpp"
 
 namespace brushwork {
@@ -43,7 +43,6 @@ constexpr int kMaxTilePx = 16384;   // px: the largest tile side asked for
 constexpr int kAutoTilePx = 4096;   // px: the tile side when none is asked (or the GL's limit)
 constexpr int kMinMapPx = 2;        // texels: the shortest side of a map image
 constexpr int kMaxMapPx = 8192;     // texels: the longest side of a map image
-constexpr float kMinAlpha = 1e-6f;  // coverage below which an image on transparency is left black
 
 using Rect = std::array<int, 4>;  // x0, y0, x1, y1 px (exclusive), y up
 
@@ -93,16 +92,10 @@ void SceneFeatures::validate() const {
 Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
              int tile_px)
     : scene_(scene), width_mm_(width_mm), height_mm_(height_mm), ppm_(px_per_mm) {
-  checks::positive("width_mm", width_mm);
-  checks::positive("height_mm", height_mm);
-  checks::positive("px_per_mm", px_per_mm);
+  const auto [w, h] = checks::paper_pixels(width_mm, height_mm, px_per_mm, kMaxPaperPx);
   scene_.validate();
-  const double w = std::round(width_mm * px_per_mm), h = std::round(height_mm * px_per_mm);
-  if (w < 1 || h < 1 || w > kMaxPaperPx || h > kMaxPaperPx)
-    throw std::invalid_argument("paper of " + std::to_string(w) + " x " + std::to_string(h) +
-                                " px: each side must be 1.." + std::to_string(kMaxPaperPx) + " px");
-  W_ = static_cast<int>(w);
-  H_ = static_cast<int>(h);
+  W_ = w;
+  H_ = h;
   if (tile_px != 0 && (tile_px < kMinTilePx || tile_px > kMaxTilePx))
     throw std::invalid_argument("tile_px = " + std::to_string(tile_px) + ": expected 0 (auto) or " +
                                 std::to_string(kMinTilePx) + ".." + std::to_string(kMaxTilePx));
@@ -143,7 +136,7 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   max_blend_ = !scene_.color_ramp;
   // the footprint program with this scene's features compiled in, nothing else
   program_ = std::make_unique<FootprintPass>(*ctx_, scene_, max_blend_);
-  wet_ = std::make_unique<WetArea>(kWetCellMm);
+  wet_ = std::make_unique<WetLedger>(kWetCellMm);
 
   // composite: a full-tile triangle pair
   composite_program_ = ctx_->program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
@@ -393,33 +386,9 @@ void Paper::deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const Sw
   if (scene_.depletion) stats.deposited += wet_gain(tuft, swept, k, density * cover);
 }
 
-double Paper::ink_density(const Brush& tuft) {
-  // the ink reaches the paper at full density while some node that touches it holds a tenth of
-  // its load, then fades with the wettest one (a drying brush breaks up through the dry map
-  // first, and greys only when nearly empty)
-  const std::vector<float> p = node_pressure(tuft);
-  double touching = 0.0, all = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double d = std::clamp(10.0 * tuft.wetness()[static_cast<Eigen::Index>(i)], 0.0, 1.0);
-    all = std::max(all, d);
-    if (p[i] > 0.0f) touching = std::max(touching, d);
-  }
-  return touching > 0.0 ? touching : all;
-}
-
 double Paper::wet_gain(const Brush& tuft, bool swept, std::size_t k, double density) {
-  // what tuft k gave the paper: the cells its footprint (the core's loops, at the core's own
-  // mesh, whatever the paper's resolution) and the band from its last footprint newly wetted,
-  // at the density the footprint pass drew with (and the ink's alpha)
-  const Loops loops = tuft.own_footprint(MeshOptions{});
-  const FootprintSpan span = footprint_span(loops, 0.0);
-  wet_last_.resize(std::max(wet_last_.size(), k + 1));
-  WetFootprint& last = wet_last_[k];
-  if (!swept || !span.valid) last = WetFootprint{};
-  const Eigen::Vector2d shift = last.loops.empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d(span.centroid - last.centre);
-  const double gain = wet_->add(loops, last.loops, shift, density * stroke_color_[3]);
-  last = WetFootprint{loops, span.centroid};
-  return gain;
+  // what tuft k gave the paper, at the density the footprint pass drew with (and the ink's alpha)
+  return wet_->add(tuft, swept, k, density * stroke_color_[3]);
 }
 
 void Paper::start_frames(const std::vector<bool>& swept) {
@@ -638,35 +607,6 @@ void Paper::read_ink(float* out) {
 }
 
 namespace {
-
-// float -> the nearest integer, ties to even: what np.round (and std::nearbyint in the default
-// rounding mode) gives; on x86-64 one cvtss2si instead of a call into libm
-inline int round_even(float v) {
-#if defined(__SSE2__)
-  return _mm_cvt_ss2si(_mm_set_ss(v));
-#else
-  return static_cast<int>(std::nearbyint(v));
-#endif
-}
-
-// one row of n RGBA float texels (premultiplied, GL's order) into n pixels of C = 3 (over white)
-// or 4 (on transparency) channels of T; kBgr swaps red and blue (OpenCV's order)
-template <typename T, bool kWhite, bool kBgr>
-void image_row(const float* src, T* dst, int n, float top) {
-  constexpr int C = kWhite ? 3 : 4;
-  for (int i = 0; i < n; ++i, src += 4, dst += C) {
-    float p[4];
-    for (int c = 0; c < 4; ++c) p[c] = std::clamp(src[c], 0.0f, 1.0f);
-    float v[4];
-    for (int c = 0; c < 3; ++c) v[c] = kWhite ? (p[c] - p[3]) + 1.0f : (p[3] > kMinAlpha ? p[c] / p[3] : 0.0f);
-    v[3] = p[3];
-    for (int c = 0; c < C; ++c) {
-      // (the product is rounded to float first, as numpy does, then to an integer)
-      const float scaled = std::clamp(v[c], 0.0f, 1.0f) * top;
-      dst[(kBgr && c < 3) ? 2 - c : c] = static_cast<T>(round_even(scaled));
-    }
-  }
-}
 
 template <typename T, bool kWhite, bool kBgr>
 void image_rows(const PaperTile& t, const float* buf, T* out, int W, int H, float top) {

@@ -83,4 +83,21 @@ double WetArea::add(const Loops& loops, const Loops& last, const Eigen::Vector2d
   return gain * cell_ * cell_;
 }
 
+void WetLedger::clear() {
+  area_.clear();
+  last_.clear();
+}
+
+double WetLedger::add(const Brush& tuft, bool swept, std::size_t k, double density) {
+  const Loops loops = tuft.own_footprint(MeshOptions{});
+  const FootprintSpan span = footprint_span(loops, 0.0);
+  last_.resize(std::max(last_.size(), k + 1));
+  Footprint& last = last_[k];
+  if (!swept || !span.valid) last = Footprint{};
+  const Eigen::Vector2d shift = last.loops.empty() ? Eigen::Vector2d::Zero() : Eigen::Vector2d(span.centroid - last.centre);
+  const double gain = area_.add(loops, last.loops, shift, density);
+  last = Footprint{loops, span.centroid};
+  return gain;
+}
+
 }  // namespace brushwork

@@ -40,4 +40,24 @@ class WetArea {
   std::vector<std::pair<int, double>> hits_;  // scratch: the loops' crossings (row, x mm)
 };
 
+// What each tuft of a brush gave the paper in a stroke: the wetted cells and each tuft's
+// footprint at its last deposit (the main tuft first), shared by every kind of paper.
+class WetLedger {
+ public:
+  explicit WetLedger(double cell_mm) : area_(cell_mm) {}
+  void clear();  // a new stroke
+  // tuft k's footprint now (the core's loops at the core's own mesh, whatever the paper's
+  // resolution) and the band from its last one (`swept`: the tuft was there at the last deposit)
+  // newly wetted at `density` (times the ink's alpha); mm^2 of full-density ink gained
+  double add(const Brush& tuft, bool swept, std::size_t k, double density);
+
+ private:
+  struct Footprint {
+    Loops loops;                                       // mm
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // mm, the loops' area centroid
+  };
+  WetArea area_;
+  std::vector<Footprint> last_;
+};
+
 }  // namespace brushwork

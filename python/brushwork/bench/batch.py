@@ -38,14 +38,15 @@ class _Timed:
             self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
 
 
-def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
+def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None, ink: str = "gl") -> dict:
     """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
-    step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
+    step (the solver), in the paper's deposit (GL, or the geometry's sweep), in the driver's own
+    Python, in the geometry's union and raster (on readback), and in PNG saving."""
     st = Style.load(style)
     counters: dict = {}
     frames = 0
     t0 = time.perf_counter()
-    paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
+    paper = writing_paper(st, size, samples=samples, ink=ink)   # one paper, cleared for each, as in a batch
     paper.deposit = _Timed(paper.deposit, "deposit", counters)
     with tempfile.TemporaryDirectory() as tmp:
         for k, glyph in enumerate(glyphs):
@@ -56,10 +57,21 @@ def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None =
             frames += writer.frames
             ts = time.perf_counter()
             paper.save(os.path.join(tmp, "g.png"))
-            counters["save"] = counters.get("save", 0.0) + time.perf_counter() - ts
+            saved = time.perf_counter() - ts
+            for part, secs in _readback(paper).items():
+                counters[part] = counters.get(part, 0.0) + secs
+                saved -= secs
+            counters["save"] = counters.get("save", 0.0) + saved
     total = time.perf_counter() - t0
     counters["driver and the rest"] = total - sum(counters.values())
-    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
+    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters,
+            "ink": paper.inked_by}
+
+
+def _readback(paper) -> dict:
+    """The geometry's last readback: seconds of union and of raster (none for a GL paper)."""
+    t = getattr(paper, "timings", None)
+    return {} if t is None else {"union": t["union_s"], "raster": t["raster_s"]}
 
 
 def _failures(folder: Path) -> list:
@@ -86,7 +98,7 @@ def time_batch(entry: Entry, text: str, options: list) -> dict:
 
 
 def run(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
-        style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
+        style: str = "kai", progress: bool = True, samples: int | None = None, ink: str = "gl") -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
     across the set (those the source has), then one process's time breakdown on a few of them."""
     size, samples = check_size(size), check_samples(samples)
@@ -101,9 +113,10 @@ def run(entry: Entry, source: str = "default", count: int = 200, size: int = 102
     text = "".join(dict.fromkeys(picked))
     options = ["--source", source, "--jobs", str(jobs), "--size", str(size), "--style", style]
     options += (["--samples", str(samples)] if samples else []) + ([] if progress else ["--no-progress"])
-    res = time_batch(entry, text, options)
-    parts = breakdown([have[c] for c in text[:4]], size, style, samples)
-    return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's", **res,
+    res = time_batch(entry, text, options + ["--ink", ink])
+    parts = breakdown([have[c] for c in text[:4]], size, style, samples, ink)
+    return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's",
+            "ink": parts["ink"], **res,
             "gb2312_hours": len(pool) / res["chars_per_s"] / 3600.0 if res["chars_per_s"] else None,
             "breakdown": parts}
 
@@ -111,7 +124,8 @@ def run(entry: Entry, source: str = "default", count: int = 200, size: int = 102
 def table(result: dict) -> str:
     b = result["breakdown"]
     lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
-             f"{result['jobs']} jobs, samples {result['samples']}: {result['chars_per_s']:.2f} characters/s "
+             f"{result['jobs']} jobs, samples {result['samples']}, ink {result['ink']}: "
+             f"{result['chars_per_s']:.2f} characters/s "
              f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
              "",
              f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",
@@ -134,12 +148,38 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
     p.add_argument("--samples", type=int, default=None, help="multisampling: 1, 2, 4 or 8 (default: the style's)")
+    p.add_argument("--ink", default="gl", help="gl (default), geometry or auto, or several with commas (geometry,gl): "
+                                               "each measured in turn, in this one run")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
 
 
 def handle(args: argparse.Namespace) -> int:
     from .report import run_benchmark
 
+    from ..paper import ink_path
+    from ..scene import Scene
+
     check_samples(args.samples)
-    return run_benchmark("batch", args, lambda: run(args.entry, args.source, args.count, args.size, args.jobs,
-                                                    args.style, samples=args.samples), table)
+    inks = args.ink.split(",")
+    for ink in inks:
+        ink_path(Scene(**Style.load(args.style).scene), ink)
+    return run_benchmark("batch", args, lambda: runs(args.entry, args.source, args.count, args.size, args.jobs,
+                                                     args.style, samples=args.samples, inks=inks), tables)
+
+
+def runs(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
+         style: str = "kai", progress: bool = True, samples: int | None = None, inks: tuple = ("gl",)) -> dict:
+    """run() once for each ink path of `inks`, in turn, in this one run."""
+    out = [run(entry, source, count, size, jobs, style, progress, samples, ink) for ink in inks]
+    return out[0] if len(out) == 1 else {"runs": out}
+
+
+def tables(result: dict) -> str:
+    """table() of each run, then the speed of each against the last."""
+    each = result.get("runs")
+    if each is None:
+        return table(result)
+    last = each[-1]
+    ratios = [f"{r['ink']}: {r['chars_per_s'] / last['chars_per_s']:.2f}x {last['ink']}" for r in each[:-1]
+              if last["chars_per_s"]]
+    return "\n\n".join(table(r) for r in each) + "\n\n" + "; ".join(ratios)

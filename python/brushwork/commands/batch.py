@@ -48,7 +48,8 @@ def handle(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress, samples=args.samples, executor=args.executor)
+                          progress=not args.no_progress, samples=args.samples, executor=args.executor,
+                          ink=args.ink or "gl")
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:

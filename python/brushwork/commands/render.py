@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import time
 
 from ..files import check_bits
@@ -38,7 +39,8 @@ def check_request(chars: str, size: int, bits: int, samples: int | None, seed: i
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("text", help="the characters to write, left to right on one image (spaces ignored)")
     p.add_argument("-o", "--output", metavar="FILE", required=True,
-                   help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp")
+                   help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp, "
+                        "or the ink's outlines as .svg or .pdf")
     look_arguments(p)
     image_arguments(p)
     p.add_argument("--stats", metavar="FILE", help="also write the writing's figures as JSON to FILE: frames, "
@@ -47,13 +49,25 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from ..files import check_image_path, save_paper
+    from ..files import check_image_path, check_writable, save_paper
+    from ..ink import VECTOR_FORMATS, write_vectors
+    from ..paper import ink_path
+    from ..scene import Scene
     from ..writing import Style, text_paper, writing_stats
 
     chars = text_chars(args.text)
     check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
-    check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
+    vectors = os.path.splitext(args.output)[1].lower() in VECTOR_FORMATS
+    ink = args.ink or ("geometry" if vectors else "gl")
+    if vectors and ink_path(Scene(**style.scene), ink) != "geometry":
+        raise ValueError(f"{args.output}: vector outlines come from the ink's geometry; --ink {ink} takes the "
+                         f"GL pass for style {style.name}")
+    ink_path(Scene(**style.scene), ink)
+    if vectors:
+        check_writable(args.output)
+    else:
+        check_image_path(args.output, args.bits, args.transparent)     # before the work, not after
     if args.stats:
         from ..bench.report import check_writable, write_json
 
@@ -61,11 +75,14 @@ def handle(args: argparse.Namespace) -> int:
     glyphs = load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     counts: dict = {}
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts)
-    path = save_paper(paper, args.output, bits=args.bits,
-                      background="transparent" if args.transparent else "white")
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=ink)
+    if vectors:
+        path = write_vectors(paper, args.output)
+    else:
+        path = save_paper(paper, args.output, bits=args.bits, background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
           f"{time.perf_counter() - t0:.1f} s)")
     if args.stats:
-        write_json(args.stats, {"text": "".join(chars), "size": args.size, "style": style.name, **writing_stats(counts)})
+        write_json(args.stats, {"text": "".join(chars), "size": args.size, "style": style.name, "ink": paper.inked_by,
+                                **writing_stats(counts)})
     return 0

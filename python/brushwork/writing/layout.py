@@ -3,7 +3,7 @@ on it left to right by one brush (`text_paper`; `render_glyph` for one), with th
 numbers of such a paper and the figures of the writing."""
 from __future__ import annotations
 
-from ..paper import Paper
+from ..paper import Paper, make_paper
 from ..scene import Scene
 from .driver import Writer
 from .style import Style
@@ -38,10 +38,11 @@ def check_seed(seed: int) -> int:
     return seed
 
 
-def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None) -> Paper:
+def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None, ink: str = "gl") -> Paper:
     """A paper for `chars` characters in a row, each em box a size x size px square, with the
     style's scene; `samples` overrides its multisampling (1 is ~2.5x faster on a software
-    renderer, its edges stepped at the pixel)."""
+    renderer, its edges stepped at the pixel); `ink` picks the ink's path (paper.ink_path:
+    geometry, gl, or auto: geometry, without GL, for an opaque scene)."""
     size, samples = check_size(size), check_samples(samples)
     if chars < 1:
         raise ValueError("no characters to render")
@@ -49,11 +50,12 @@ def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None =
         raise ValueError(f"{chars} characters x {size} px = {chars * size} px wide: more than {MAX_SIDE}; "
                          "use a smaller size or `brushwork batch`")
     scene = dict(style.scene, **({"samples": samples} if samples else {}))
-    return Paper(chars * style.em_mm, style.em_mm, size / style.em_mm, scene=Scene(**scene))
+    return make_paper(chars * style.em_mm, style.em_mm, size / style.em_mm, Scene(**scene), ink)
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
-               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None) -> Paper:
+               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
+               ink: str = "gl") -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
@@ -66,7 +68,7 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws)."""
     st = style if isinstance(style, Style) else Style.load(style)
     if paper is None:
-        paper = writing_paper(st, size, len(glyphs), samples)
+        paper = writing_paper(st, size, len(glyphs), samples, ink)
     else:
         if (paper.width_px, paper.height_px) != (len(glyphs) * size, size):
             raise ValueError(f"a {paper.width_px} x {paper.height_px} px paper cannot take {len(glyphs)} "
@@ -81,10 +83,10 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     return paper
 
 
-def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
+def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0, ink: str = "gl") -> Paper:
     """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
     lands where its SVG recipe draws the outlines), with the glyph written on it."""
-    return text_paper([glyph], size, style, seed)
+    return text_paper([glyph], size, style, seed, ink=ink)
 
 
 def writing_stats(counts: dict) -> dict:

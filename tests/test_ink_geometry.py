@@ -1,0 +1,222 @@
+"""Ink as geometry: union, exact coverage, the swept footprint and the paper made of them."""
+import math
+
+import numpy as np
+import pytest
+
+import brushwork as bw
+from brushwork import _core
+from brushwork.paper import VectorPaper, ink_path, make_paper
+
+
+def area(loops):
+    return sum(0.5 * float(np.sum(l[:, 0] * np.roll(l[:, 1], -1) - np.roll(l[:, 0], -1) * l[:, 1])) for l in loops)
+
+
+def disc(cx, cy, r, n=720):
+    t = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)
+    return np.c_[cx + r * np.cos(t), cy + r * np.sin(t)]
+
+
+def test_the_union_of_two_overlapping_footprints_has_their_known_area():
+    a = disc(0.0, 0.0, 2.0)
+    b = disc(2.0, 0.0, 2.0)
+    u = _core.union_loops([a, b])
+    # two discs of radius r = 2 at distance d = 2: 2 pi r^2 less the lens 2 r^2 acos(d / 2r) - d/2 sqrt(4 r^2 - d^2)
+    r, d = 2.0, 2.0
+    lens = 2 * r * r * math.acos(d / (2 * r)) - 0.5 * d * math.sqrt(4 * r * r - d * d)
+    assert len(u) == 1
+    assert area(u) == pytest.approx(2 * math.pi * r * r - lens, rel=2e-4)
+
+
+def test_a_discs_coverage_is_pi_r_squared():
+    r, ppm = 3.3, 10.0
+    cov = _core.coverage([disc(5.0, 5.2, r, 4000)], ppm, 100, 100)
+    assert cov.min() >= 0.0 and cov.max() <= 1.0
+    assert abs(cov.sum() / ppm**2 - math.pi * r * r) < 1e-4 * math.pi * r * r
+    # a pixel wholly inside is 1, one far outside 0; the edge is partial
+    assert cov[100 - 52, 50] == pytest.approx(1.0) and cov[0, 0] == 0.0
+    assert 0 < np.count_nonzero((cov > 0) & (cov < 1))
+
+
+def test_coverage_clips_at_the_papers_sides_and_takes_holes():
+    square = np.array([[-5.0, -5.0], [5.0, -5.0], [5.0, 5.0], [-5.0, 5.0]])       # ccw, past the corner
+    hole = np.array([[1.0, 1.0], [1.0, 2.0], [2.0, 2.0], [2.0, 1.0]])               # cw
+    cov = _core.coverage([square, hole], 4.0, 40, 40)
+    assert cov.sum() / 16.0 == pytest.approx(25.0 - 1.0, abs=1e-6)
+
+
+def test_empty_degenerate_and_self_touching_loops():
+    assert _core.union_loops([]) == []
+    assert _core.coverage([], 10.0, 8, 8).sum() == 0.0
+    line = np.array([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0]])                           # no area
+    assert _core.union_loops([line]) == []
+    assert _core.coverage([line], 10.0, 30, 30).sum() == 0.0
+    # two squares touching at a corner, as one loop through the shared point
+    bow = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0], [1.0, 1.0], [0.0, 1.0]])
+    assert area(_core.union_loops([bow])) == pytest.approx(2.0, abs=1e-9)
+    assert _core.coverage([bow], 10.0, 25, 25).sum() / 100.0 == pytest.approx(2.0, abs=1e-6)
+    with pytest.raises(ValueError):
+        _core.union_loops([np.array([[0.0, 0.0], [np.nan, 1.0], [1.0, 1.0]])])
+
+
+def pressed_brush():
+    from brushwork.recorded import root_height
+
+    b = bw.Brush("small")
+    z0, z1 = root_height(b.model, 15, 0.0) + 1.0, root_height(b.model, 15, 0.25)
+    for k in range(30):
+        b.step(bw.Pose((20.0, 20.0, z0 + (z1 - z0) * (k + 1) / 30), 15, 0))
+    return b, z1
+
+
+def dense_sweep(v0, v1, faces, blends=200):
+    """The sweep's reference: the union of the footprints of `blends` + 1 evenly spaced blends."""
+    loops = []
+    for t in np.linspace(0.0, 1.0, blends + 1):
+        vt = (1.0 - t) * v0 + t * v1
+        loops += _core.swept_footprint(vt, vt, faces)[0]
+    return _core.union_loops(loops)
+
+
+@pytest.mark.parametrize("move", [(1.0, 0.0, 0.0), (0.7, 0.5, 12.0), (0.0, 0.0, 25.0)])
+def test_the_swept_footprint_is_the_continuous_sweep(move):
+    """A pressed tuft moved (dx mm, dy mm, a turn of the handle in deg) in one frame: the region
+    swept_footprint gives covers the dense blends' union and exceeds it by little."""
+    b, z1 = pressed_brush()
+    opt = VectorPaper(60, 40, 10).mesh_options(b.model)
+    v0, f, _ = b.surface_mesh(opt)
+    f = f.astype(np.int32)
+    still, k = _core.swept_footprint(v0, v0, f)
+    assert k == 1 and area(_core.union_loops(still)) == pytest.approx(area(_core.union_loops(b.footprint(opt))), rel=1e-6)
+    b.step(bw.Pose((20.0 + move[0], 20.0 + move[1], z1), 15, move[2]))
+    v1, _, _ = b.surface_mesh(opt)
+    region, k = _core.swept_footprint(v0, v1, f)
+    swept, ref = _core.union_loops(region), dense_sweep(v0, v1, f)
+    ppm = 40.0
+    a = _core.coverage(swept, ppm, 40 * 40, 40 * 40) > 0.5
+    r = _core.coverage(ref, ppm, 40 * 40, 40 * 40) > 0.5
+    # at 40 px/mm: missed and extra pixels of the reference, each at most a hundredth of its area
+    assert np.count_nonzero(r & ~a) <= 0.01 * np.count_nonzero(r), (k, np.count_nonzero(r & ~a))
+    assert np.count_nonzero(a & ~r) <= 0.01 * np.count_nonzero(r), (k, np.count_nonzero(a & ~r))
+
+
+def write_stroke(paper):
+    b, z1 = pressed_brush()
+    for k in range(25):
+        paper.deposit(b)
+        b.step(bw.Pose((20.0 + 0.8 * (k + 1), 20.0 + 4 * math.sin(k / 6), z1), 15, 0))
+    paper.end_stroke()
+    return paper
+
+
+def test_a_vector_paper_stroke_matches_the_gl_pass_and_repeats_exactly():
+    geo = write_stroke(VectorPaper(60, 40, 10))
+    gl = write_stroke(bw.Paper(60, 40, 10, scene=bw.Scene(samples=4)))
+    a, b = geo.ink() > 0.5, gl.ink() > 0.5
+    iou = np.count_nonzero(a & b) / np.count_nonzero(a | b)
+    assert iou > 0.97, iou
+    # the outlines' area is the raster's ink, and a second writing gives the same bytes
+    assert area(geo.outlines()) == pytest.approx(float(geo.ink().sum()) / 100.0, rel=1e-3)
+    again = write_stroke(VectorPaper(60, 40, 10))
+    assert np.array_equal(again.image(), geo.image())
+    assert geo.undo() and geo.ink().sum() == 0.0
+
+
+def test_the_scene_chooses_the_path():
+    assert ink_path(bw.Scene(), "auto") == "geometry"
+    assert ink_path(bw.Scene(depletion=True), "auto") == "geometry"
+    assert ink_path(bw.Scene(dry_map=True), "auto") == "gl"
+    with pytest.raises(ValueError, match="dry_map"):
+        ink_path(bw.Scene(dry_map=True), "geometry")
+    with pytest.raises(ValueError, match="ink"):
+        ink_path(bw.Scene(), "vector")
+    assert isinstance(make_paper(10, 10, 4, bw.Scene(), "auto"), VectorPaper)
+    assert bw.render_info()["ink"] == "geometry"
+
+
+def closed_resample(loop, step=1.0):
+    """A closed polyline resampled every `step` of arc."""
+    p = np.vstack([loop, loop[:1]])
+    s = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))]
+    t = np.arange(0.0, s[-1], step)
+    return np.c_[np.interp(t, s, p[:, 0]), np.interp(t, s, p[:, 1])]
+
+
+def contour_figures(loop_px, reach=8, sigma=12.0):
+    """(sharp turns, deviation px) of a closed contour in px: turns of more than 45 deg between
+    the chords `reach` px of arc behind and ahead (a run of such points is one turn), and the rms
+    distance of the contour from its copy smoothed along the arc (Gaussian, sigma px), less the
+    smooth part of that distance (a round end's smoothed copy lies inside it by sigma^2 / 2r)."""
+    p = closed_resample(loop_px)
+    n = len(p)
+    a, b = p - np.roll(p, reach, axis=0), np.roll(p, -reach, axis=0) - p
+    cos = np.sum(a * b, axis=1) / (np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1) + 1e-12)
+    sharp = cos < math.cos(math.radians(45.0))
+    turns = int(np.count_nonzero(sharp & ~np.roll(sharp, 1))) if not sharp.all() else 1
+
+    def smooth(x):
+        k = np.arange(-int(4 * sigma), int(4 * sigma) + 1)
+        w = np.exp(-0.5 * (k / sigma) ** 2)
+        w /= w.sum()
+        return sum(wi * np.roll(x, -ki, axis=0) for ki, wi in zip(k, w))
+
+    d = p - smooth(p)
+    rough = d - smooth(d)
+    assert n > 100
+    return turns, float(np.sqrt(np.mean(np.sum(rough ** 2, axis=1))))
+
+
+def s_curve_poses(model):
+    """A small brush comes down, writes an S-curve of 90 mm at 1 mm a frame whose press swells and
+    eases, and lifts: open-loop, no driver."""
+    from brushwork.recorded import along_path
+
+    s = np.linspace(0.0, 1.0, 91)
+    pts = np.c_[15.0 + 70.0 * s, 30.0 + 14.0 * np.sin(2.0 * np.pi * s)]
+    press = 0.12 + 0.12 * np.sin(np.pi * s) ** 2
+    return along_path(model, pts, press, step_mm=1.0)
+
+
+def test_an_open_loop_s_curve_leaves_a_smooth_contour():
+    """At 20 px/mm (a 2048 px glyph's scale) the contour has no comb of teeth and no hexagon: its
+    sharp turns are the two corners where the brush came down and the flick of its lift, and its
+    edge keeps within 0.3 px rms of its smoothed copy (the footprint pass: 2 turns, 0.47 px)."""
+    model = bw.BrushModel.preset("small")
+    paper = VectorPaper(100, 60, 20)
+    brush = bw.Brush(model)
+    for pose in s_curve_poses(model):
+        brush.step(pose)
+        paper.deposit(brush)
+    paper.end_stroke()
+    loops = paper.outlines()
+    outer = max(loops, key=lambda l: abs(area([l])))
+    turns, deviation = contour_figures(outer * 20.0)
+    assert area([outer]) > 100.0
+    assert turns <= 3, turns
+    assert deviation <= 0.3, deviation
+
+
+def test_render_writes_the_outlines_as_svg_and_pdf(tmp_path, capsys):
+    import re
+
+    from brushwork import cli
+
+    svg, pdf = tmp_path / "yi.svg", tmp_path / "yi.pdf"
+    assert cli.main(["render", "一", "-o", str(svg), "--size", "256"]) == 0
+    assert cli.main(["render", "一", "-o", str(pdf), "--size", "256"]) == 0
+    text = svg.read_text()
+    assert text.startswith("<svg") and 'viewBox="0 0 100 100"' in text
+    loops = [np.array(re.findall(r"[ML]([-\d.]+) ([-\d.]+)", d), dtype=float) for d in re.findall(r"M[^Z]*Z", text)]
+    paper = VectorPaper(100, 100, 2.56)
+    from brushwork.writing import text_paper
+    from brushwork.glyphs import load_source
+
+    ref = text_paper([load_source("default", "一")["一"]], 256, "kai", ink="geometry").outlines()
+    # (svg's y runs down: the area's sign turns, its size stays)
+    assert abs(area(loops)) == pytest.approx(abs(area(ref)), rel=1e-3) and abs(area(ref)) > 50.0
+    data = pdf.read_bytes()
+    assert data.startswith(b"%PDF-1.4") and data.rstrip().endswith(b"%%EOF") and b"/MediaBox" in data
+    assert cli.main(["render", "一", "-o", str(tmp_path / "x.svg"), "--ink", "gl"]) == 2
+    assert "vector outlines come from the ink's geometry" in capsys.readouterr().err
+    assert paper.outlines() == []
