@@ -57,7 +57,9 @@ def run_isolated(code: str, **env) -> subprocess.CompletedProcess:
 # --- context -----------------------------------------------------------------------------------
 
 def test_context_reports_its_backend():
+    bw.Paper(10, 10, 4)                      # render_info speaks of the last paper's path: GL here
     info = bw.render_info()
+    assert info["ink"] == "gl"
     assert info["backend"] in ("egl-device", "mesa-surfaceless", "default-display")
     assert info["max_texture_size"] >= 2048
     assert info["version"]
