@@ -85,20 +85,12 @@ constexpr double kSamePoint2 = 1e-24;
 constexpr double kFar = 1e300;
 // mm^2, a footprint whose |area| is below this is no footprint
 constexpr double kMinFootprintArea = 1e-9;
-// mm, a chord between two section centres shorter than this is taken as this long (the radii's
-// slopes stay finite where two centres coincide)
-constexpr double kMinChord = 1e-9;
 
 // the sections' fields, checked: centres C, unit axes U, W, N, radii a+ (AP), a- (AM), c (CC)
 struct SweepInput {
   std::vector<Vec3> C, U, W, N, D;  // D: unit Catmull-Rom tangent directions at the centres
   std::vector<double> AP, AM, CC;
-  std::vector<double> H;            // (S-1) mm, chord |O_i+1 - O_i| (at least kMinChord)
-  std::vector<double> MAP, MAM, MCC;  // (S) slopes d(radius)/d(arc) of a+, a-, c at the centres
 };
-
-// rings of the tip cap beyond the last section (as many as between two sections, at least 2)
-int tip_rings(int rings_per_segment) { return std::max(2, rings_per_segment); }
 
 void check_options(std::size_t S, const MeshOptions& opt) {
   if (S < 2) {
@@ -108,38 +100,8 @@ void check_options(std::size_t S, const MeshOptions& opt) {
   }
   if (opt.rings_per_segment < 1) throw std::invalid_argument("sweep_surface: rings_per_segment must be >= 1");
   if (opt.around < 8) throw std::invalid_argument("sweep_surface: around must be >= 8");
-  const long long rings_ll = static_cast<long long>(S - 1) * opt.rings_per_segment + 1 + tip_rings(opt.rings_per_segment);
+  const long long rings_ll = static_cast<long long>(S - 1) * opt.rings_per_segment + 1;
   if (rings_ll * opt.around + 2 > kMaxMeshVertices) throw std::invalid_argument("sweep_surface: mesh too large");
-}
-
-// PCHIP's one-sided slope at an end: the three-point estimate from the end's two secants d0
-// (the end's own) and d1, over knots h0 and h1 apart; zero against d0's sign, at most 3 d0
-// where the two secants differ in sign
-double end_slope(double d0, double d1, double h0, double h1) {
-  const double m = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
-  if (m * d0 <= 0.0) return 0.0;
-  if (d0 * d1 < 0.0 && std::abs(m) > 3.0 * std::abs(d0)) return 3.0 * d0;
-  return m;
-}
-
-// slopes of a monotone piecewise-cubic Hermite interpolant of the radii r over knots h apart
-// (Fritsch-Carlson, with PCHIP's weighted harmonic mean and ends): continuous slope along the
-// spine, no overshoot between two sections (a radius never dips below the smaller of its two
-// ends), flat at a local extremum
-std::vector<double> monotone_slopes(const std::vector<double>& r, const std::vector<double>& h) {
-  const std::size_t S = r.size();
-  std::vector<double> m(S, 0.0);
-  std::vector<double> d(S - 1);  // secant slopes delta_k
-  for (std::size_t k = 0; k + 1 < S; ++k) d[k] = (r[k + 1] - r[k]) / h[k];
-  if (S == 2) return {d[0], d[0]};
-  for (std::size_t k = 1; k + 1 < S; ++k) {
-    if (d[k - 1] * d[k] <= 0.0) continue;  // an extremum (or a flat run): flat
-    const double w1 = 2.0 * h[k] + h[k - 1], w2 = h[k] + 2.0 * h[k - 1];
-    m[k] = (w1 + w2) / (w1 / d[k - 1] + w2 / d[k]);
-  }
-  m[0] = end_slope(d[0], d[1], h[0], h[1]);
-  m[S - 1] = end_slope(d[S - 2], d[S - 3], h[S - 2], h[S - 3]);
-  return m;
 }
 
 SweepInput checked_sections(const std::vector<Section>& sections) {
@@ -168,21 +130,16 @@ SweepInput checked_sections(const std::vector<Section>& sections) {
     const double len = m.norm();
     in.D[i] = len > kZeroLength ? Vec3(m / len) : Vec3::Zero();
   }
-  in.H.resize(S - 1);
-  for (std::size_t i = 0; i + 1 < S; ++i) in.H[i] = std::max((C[i + 1] - C[i]).norm(), kMinChord);
-  in.MAP = monotone_slopes(in.AP, in.H);
-  in.MAM = monotone_slopes(in.AM, in.H);
-  in.MCC = monotone_slopes(in.CC, in.H);
   return in;
 }
 
 // one ring of the sweep: its centre P, axes u (major) and w (minor), radii ap, am, cr
 struct Ring {
-  Vec3 P = Vec3::Zero(), u = Vec3::UnitX(), w = Vec3::UnitY();
-  double ap = 0.0, am = 0.0, cr = 0.0;
+  Vec3 P, u, w;
+  double ap, am, cr;
 };
 
-// the ring at fraction s between sections i0 and i0 + 1: Hermite centre and radii, blended
+// the ring at fraction s between sections i0 and i0 + 1: Hermite centre, linear radii, blended
 // and re-orthogonalised frame.  prev_u: the last ring's major axis; handed: the sign of w
 // relative to T x u, fixed on the first ring (0 until then)
 Ring sweep_ring(const SweepInput& in, int i0, double s, bool first, Vec3& prev_u, double& handed) {
@@ -216,56 +173,11 @@ Ring sweep_ring(const SweepInput& in, int i0, double s, bool first, Vec3& prev_u
   }
   ring.w = w * handed;
 
-  // radii (a + r_lat, b + r_lat, c): monotone cubic Hermite over the arc (continuous slope
-  // through the sections, so a flattened tuft's outline has no kink at each Omega_i)
-  const double h = in.H[i0];
-  const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
-  auto radius = [&](const std::vector<double>& r, const std::vector<double>& m) {
-    return h00 * r[i0] + h10 * h * m[i0] + h01 * r[i1] + h11 * h * m[i1];
-  };
-  ring.ap = radius(in.AP, in.MAP);
-  ring.am = radius(in.AM, in.MAM);
-  ring.cr = radius(in.CC, in.MCC);
+  // radii (a + r_lat, b + r_lat, c) interpolated linearly
+  ring.ap = (1.0 - s) * in.AP[i0] + s * in.AP[i1];
+  ring.am = (1.0 - s) * in.AM[i0] + s * in.AM[i1];
+  ring.cr = (1.0 - s) * in.CC[i0] + s * in.CC[i1];
   return ring;
-}
-
-// the cap's axis: the last ring's normal (u x w), turned to point the way n does (toward the tip)
-Vec3 tip_axis(const Ring& last, const Vec3& n) {
-  const Vec3 t = last.u.cross(last.w);
-  return t.dot(n) >= 0.0 ? t : Vec3(-t);
-}
-
-// The tip cap beyond the last section Omega_n: each radius r continues with its slope m there
-// (d radius / d arc) and closes at the apex, the tip length len along the axis, as
-//   r(z) = sqrt(1 - z / len) (r + b z),  b = m + r / (2 len)
-// (slope m at z = 0, a rounded end at z = len).  A radius falling faster than r / len toward the
-// tip takes that slope (r + b z stays above r / 2: no radius reaches zero before the apex)
-struct TipCap {
-  Ring last;
-  Vec3 axis;
-  double len = 0.0;
-  double b_ap = 0.0, b_am = 0.0, b_cr = 0.0;
-};
-
-TipCap tip_cap(const Ring& last, const Vec3& axis, double tip_len, double m_ap, double m_am, double m_cr) {
-  TipCap cap{last, axis, tip_len};
-  auto b = [tip_len](double r, double m) { return std::max(m, -r / tip_len) + r / (2.0 * tip_len); };
-  cap.b_ap = b(last.ap, m_ap);
-  cap.b_am = b(last.am, m_am);
-  cap.b_cr = b(last.cr, m_cr);
-  return cap;
-}
-
-// the cap's ring at fraction f in (0, 1) from the last section (f = 0) to the apex (f = 1), at
-// z = len (1 - (1 - f)^2): the rings crowd toward the apex, where the radii turn fastest
-Ring tip_ring(const TipCap& cap, double f) {
-  const double g = 1.0 - f, z = cap.len * (1.0 - g * g);
-  Ring r = cap.last;
-  r.P = cap.last.P + cap.axis * z;
-  r.ap = g * (cap.last.ap + cap.b_ap * z);
-  r.am = g * (cap.last.am + cap.b_am * z);
-  r.cr = g * (cap.last.cr + cap.b_cr * z);
-  return r;
 }
 
 // ring j's vertices and texture coordinates; ct, st: the cos / sin table of the angles around
@@ -346,8 +258,7 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   const SweepInput in = checked_sections(sections);
   const int R = opt.rings_per_segment;
   const int A = opt.around;
-  const int NB = static_cast<int>(static_cast<long long>(S - 1) * R + 1);  // rings through Omega_0..Omega_n
-  const int NR = NB + tip_rings(R);
+  const int NR = static_cast<int>(static_cast<long long>(S - 1) * R + 1);
 
   // cos / sin table for t_k = 2 pi k / around
   std::vector<double> ct(A), st(A);
@@ -366,30 +277,22 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   std::vector<Vec3> ring_center(NR);
   double handed = 0.0;
   Vec3 prev_u = Vec3::Zero();
-  Ring ring;
-  for (int j = 0; j < NB; ++j) {
-    const int seg = (j == NB - 1) ? static_cast<int>(S) - 2 : j / R;
-    const double s = (j == NB - 1) ? 1.0 : static_cast<double>(j - seg * R) / R;
-    ring = sweep_ring(in, seg, s, j == 0, prev_u, handed);
+  for (int j = 0; j < NR; ++j) {
+    const int seg = (j == NR - 1) ? static_cast<int>(S) - 2 : j / R;
+    const double s = (j == NR - 1) ? 1.0 : static_cast<double>(j - seg * R) / R;
+    const Ring ring = sweep_ring(in, seg, s, j == 0, prev_u, handed);
     ring_center[j] = ring.P;
     put_ring(mesh, ring, j, NR, ct, st);
   }
-  // the tip: the radii continued with their slopes beyond the last section, closing at the apex
-  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1]));
-  const TipCap cap = tip_cap(ring, tip_axis(ring, in.N[S - 1]), tip_len, in.MAP[S - 1], in.MAM[S - 1], in.MCC[S - 1]);
-  for (int j = NB; j < NR; ++j) {
-    const Ring r = tip_ring(cap, static_cast<double>(j - NB + 1) / (NR - NB + 1));
-    ring_center[j] = r.P;
-    put_ring(mesh, r, j, NR, ct, st);
-  }
 
-  // root cap at O_0 and the tip apex beyond the last section
+  // root cap at O_0 and the pointed tip apex beyond the last section
   mesh.vertices.row(root_cap) = in.C[0].transpose();
   mesh.uv.row(root_cap) << 0.0, 0.5;
-  mesh.vertices.row(apex) = (ring.P + cap.axis * cap.len).transpose();
+  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1]));
+  mesh.vertices.row(apex) = (in.C[S - 1] + in.N[S - 1] * tip_len).transpose();
   mesh.uv.row(apex) << 1.0, 0.5;
   put_faces(mesh, NR, A, root_cap, apex);
-  orient_outward(mesh, ring_center, A, apex, ring.P);
+  orient_outward(mesh, ring_center, A, apex, in.C[S - 1]);
   return mesh;
 }
 

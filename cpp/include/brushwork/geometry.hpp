@@ -39,9 +39,7 @@ struct MeshOptions {
 };
 
 // Sweep the sections (root first, tip last; at least 2) into a closed triangle mesh: rings of
-// `around` vertices (the centres and the three radii interpolated with continuous slope along
-// the spine), a rounded tip (max(2, rings_per_segment) rings beyond the last section, the radii
-// continued with their slopes and closing at an apex), a root cap, outward-facing triangles.
+// `around` vertices, a root cap and a tip apex, outward-facing triangles.
 SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOptions& opt);
 
 // Footprint: closed loops where the mesh crosses the plane z = 0, projected to (x, y) mm.
