@@ -687,13 +687,14 @@ def test_a_hair_out_and_back_is_dropped():
     assert ops[2][1] == ((100.0, 100.0),)
 
 
-def test_a_contour_that_is_a_hair_is_dropped():
+def test_a_contour_that_is_a_hair_or_a_speck_is_dropped():
     from fontTools.pens.recordingPen import RecordingPen
 
     from brushwork.font.tidy import tidy
 
     rec = RecordingPen()
-    for shape in (((0, 0), (100, 0), (100, 100), (0, 100)), ((200, 0), (213, 0.4), (200, 0.7))):
+    for shape in (((0, 0), (100, 0), (100, 100), (0, 100)), ((200, 0), (213, 0.4), (200, 0.7)),
+                  ((300, 0), (303, 0), (303, 3), (300, 3))):
         rec.moveTo(shape[0])
         for p in shape[1:]:
             rec.lineTo(p)

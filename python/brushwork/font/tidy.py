@@ -3,13 +3,14 @@ curve split at an x or y extreme inside it that bulges past its ends by more tha
 the handles of a smaller bulge pulled back within the ends' span), and no degenerate segment (one
 whose points all lie within MIN_SEGMENT of where it starts, a line closing a contour onto its first
 point, which closePath draws, or a hair: two segments out and back, or a whole contour, enclosing
-no ink)."""
+no ink), and no speck (a contour under SPECK_UNITS2)."""
 from __future__ import annotations
 
 import numpy as np
 
 MIN_SEGMENT = 1.0       # font units: a segment whose points all lie this close to its start is dropped
 EXTREME_UNITS = 1.0     # font units: a curve bulging past its ends by more than this is split at the extreme
+SPECK_UNITS2 = 16.0     # square units: a contour enclosing less (a speck of 2 x 2 px at 512 px) is dropped
 SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing less width than this is dropped
 REJOIN_UNITS = 0.05     # font units: how far two parts may lie from the parts of the cubic they join into
 EDGE_T = 0.02           # extremes this near a curve's ends (in its parameter) count as at the ends
@@ -110,13 +111,14 @@ def _drawn(seg: np.ndarray) -> np.ndarray:
     return seg if len(seg) == 2 else np.array([_point(seg, t) for t in np.linspace(0.0, 1.0, 9)])
 
 
-def _hair(segs: list) -> bool:
+def _hair(segs: list, speck: float = 0.0) -> bool:
     """Whether the closed run of segments segs (each (k, 2) from its start) encloses less than
-    SPIKE_WIDTH units of width: its area under SPIKE_WIDTH times half its length (no ink)."""
+    SPIKE_WIDTH units of width (its area under SPIKE_WIDTH times half its length: no ink), or
+    less than `speck` square units."""
     p = np.concatenate([_drawn(seg) for seg in segs])
     area = 0.5 * abs(float(np.dot(p[:, 0], np.roll(p[:, 1], -1)) - np.dot(np.roll(p[:, 0], -1), p[:, 1])))
     length = float(np.sum(np.linalg.norm(np.diff(np.concatenate([p, p[:1]]), axis=0), axis=1)))
-    return area < SPIKE_WIDTH * length / 2
+    return area < max(SPIKE_WIDTH * length / 2, speck)
 
 
 def _spike(a: np.ndarray, b: np.ndarray) -> bool:
@@ -173,7 +175,7 @@ def tidy(rec):
     out = RecordingPen()
     for start, segments, close in _contours(rec):
         kept = _segments(start, segments)
-        if not kept or _hair([pts for _, pts in kept]):
+        if not kept or _hair([pts for _, pts in kept], SPECK_UNITS2):
             continue
         out.moveTo(tuple(start.tolist()))
         for op, pts in kept:
