@@ -24,6 +24,7 @@ from .files import decodes, os_error_text, save_paper
 from .paper import Paper
 from .writing import Style, Writer, check_samples, check_size, writing_paper
 from .writing.driver import MAX_SIDE
+from .writing.plan import load_plan
 
 # each worker on one core: llvmpipe rasterises in the calling thread (LP_NUM_THREADS=0; with 1
 # it hands every draw to a second thread and the two take turns: ~18% slower, measured on
@@ -77,7 +78,8 @@ def check_request(chars: str, size: int, bits: int, samples: int | None, seed: i
 
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
-               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None) -> Paper:
+               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
+               plans: str | os.PathLike | None = None) -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
@@ -87,7 +89,9 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     frames held (Writer._step), the beads at exits by stroke family (Writer.beads) and the
     solver's figures (Writer.solver). paper: one made earlier by writing_paper for as many glyphs
     at this size, style and samples, cleared and written again (a batch worker keeps one: a new 1024 px
-    paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws)."""
+    paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws).
+    plans: a folder of plan files (brushwork fit): each glyph is written from its plan, in the
+    source's em box."""
     st = style if isinstance(style, Style) else Style.load(style)
     if paper is None:
         paper = writing_paper(st, size, len(glyphs), samples)
@@ -98,7 +102,10 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
         paper.clear()
     writer = Writer(paper, st, seed)
     for k, glyph in enumerate(glyphs):
-        writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
+        if plans is not None:
+            writer.write_planned(glyph, load_plan(plans, glyph.char, len(glyph.strokes)), (k * st.em_mm, 0.0))
+        else:
+            writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
     if counts is not None:
         counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds, beads=writer.beads,
                       solver=writer.solver)
@@ -140,12 +147,13 @@ def read_charset(path: str | os.PathLike) -> str:
 _JOB: dict = {}
 
 
-def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None) -> None:
+def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None,
+                 plans: str | None = None) -> None:
     # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
     # size and scene: drop it
     _JOB.clear()
     _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
-                samples=samples)
+                samples=samples, plans=plans)
 
 
 def _render_one(task: tuple) -> tuple:
@@ -155,7 +163,7 @@ def _render_one(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], _JOB["samples"],
-                           paper=_JOB.get("paper"))
+                           paper=_JOB.get("paper"), plans=_JOB.get("plans"))
         _JOB["paper"] = paper
         save_paper(paper, out, bits=_JOB["bits"], background=_JOB["background"])
     except Exception as err:     # reported at the end with the character; the batch goes on
@@ -215,9 +223,10 @@ class Progress:
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None,
-              executor: str = "local") -> BatchResult:
+              executor: str = "local", plans: str | None = None) -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
-    (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
+    (whole: a file that does not decode is rendered again), in local worker processes or on Ray;
+    `plans`: a folder of plan files to write the characters from."""
     from .raymap import check_executor
 
     check_executor(executor)
@@ -234,7 +243,9 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
-    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples), result, progress, executor)
+    if plans is not None and not os.path.isdir(plans):
+        raise ValueError(f"--plans {plans}: not a folder")
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples, plans), result, progress, executor)
     return result
 
 

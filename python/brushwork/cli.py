@@ -1,7 +1,9 @@
 """The `brushwork` command line: rendering characters, benchmarks and the demo.
 
-    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE]
-    brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
+    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE] [--plans DIR]
+    brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE] [--plans DIR]
+    brushwork fit --chars TEXT | --charset FILE --source mmah:PATH --out DIR [--style S] [--jobs N] [--executor local|ray]
+    brushwork learn --plans DIR --source mmah:PATH -o HAND.json [--style S]
     brushwork font --chars TEXT | --charset FILE -o OUT.{otf,ttf,woff2,ufo} [--style S] [--jobs N] [--executor local|ray]
     brushwork bench glyphs --source mmah:PATH [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
@@ -177,12 +179,18 @@ def _image_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
 
 
+def _plans_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--plans", metavar="DIR", help="write each character from its plan file in DIR (brushwork fit), "
+                                                  "drawn in the source's em box")
+
+
 def _render_text_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("text", help="the characters to write, left to right on one image (spaces ignored)")
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="the image to write, in the format its suffix names: .png .jpg .jpeg .tif .tiff .bmp .webp")
     _look_args(p)
     _image_args(p)
+    _plans_arg(p)
     p.add_argument("--stats", metavar="FILE", help="also write the writing's figures as JSON to FILE: frames, "
                                                    "solver steps at the iteration cap q_max, sub-steps, deepest "
                                                    "penetration (mm), beads at exits by stroke family")
@@ -204,7 +212,8 @@ def _render_text(args: argparse.Namespace) -> int:
     glyphs = _load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     counts: dict = {}
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts)
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts,
+                       plans=args.plans)
     path = save_paper(paper, args.output, bits=args.bits,
                       background="transparent" if args.transparent else "white")
     print(f"wrote {path} ({_plural(len(chars), 'character')}, {paper.width_px} x {paper.height_px} px, "
@@ -242,6 +251,7 @@ def _batch_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
                                                    "beside a reference Kai font when one is installed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _plans_arg(p)
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
                                                        "RAY_ADDRESS, else a local one; pip install brushwork[ray])")
     _look_args(p)
@@ -270,7 +280,8 @@ def _batch(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
-                          progress=not args.no_progress, samples=args.samples, executor=args.executor)
+                          progress=not args.no_progress, samples=args.samples, executor=args.executor,
+                          plans=args.plans)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:
@@ -514,10 +525,22 @@ def _bench_args(p: argparse.ArgumentParser) -> None:
         q.set_defaults(handler=handler)
 
 
+def _plans(name: str) -> Callable:
+    def call(arg):
+        from . import plans
+
+        return getattr(plans, name)(arg)
+    return call
+
+
 # the top-level commands: name -> (help, add_arguments, handler or None when subcommands set it)
 COMMANDS: dict[str, tuple[str, AddArgs, Optional[Handler]]] = {
     "render": ("write characters with the brush to one PNG", _render_text_args, _render_text),
     "batch": ("render many characters, one PNG each, in parallel; resumable", _batch_args, _batch),
+    "fit": ("fit each character's stroke plans to its outlines (mmah: sources); resumable",
+            _plans("fit_arguments"), _plans("fit_handle")),
+    "learn": ("learn a hand (a style's plans from medians alone) from fitted plans", _plans("learn_arguments"),
+              _plans("learn_handle")),
     "font": ("build an OTF, TTF, WOFF2 or UFO font of characters written by the brush; resumable", _font_args, _font),
     "bench": ("run a benchmark", _bench_args, None),
     "demo": ("draw the demo", _demo_args, _demo),

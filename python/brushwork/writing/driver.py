@@ -318,8 +318,22 @@ class Writer:
             self.paper.deposit(self.brush)
             self.frames += 1
 
+    def write_planned(self, glyph, plan, origin_mm=(0.0, 0.0)) -> None:
+        """The glyph written open-loop from its GlyphPlan (writing/plan.py), in the source's em box
+        with its bottom-left corner at `origin_mm`."""
+        from .planned import PlanWriter
+
+        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm)
+        writer.write(glyph, plan)
+        self.frames += writer.frames
+
     def write(self, glyph, origin_mm=(0.0, 0.0)) -> None:
         st = self.style
+        if st.hand is not None:           # a learned hand: the plans from the medians alone
+            from .hand import Hand
+
+            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st), origin_mm)
+            return
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
         self.density = st.density(len(glyph.strokes))

@@ -100,6 +100,8 @@ FIELDS: tuple[StyleField, ...] = (
     _F("plan_position_gain", "float", "-", 0.0, 2.0, 0.7, "fraction of the footprint's position error corrected a pass"),
     _F("plan_press_gain", "float", "L", 0.0, 1.0, 0.1, "press change a pass per unit of relative width error"),
     _F("offset_em", "pair", "em", -0.5, 0.5, (0.0, 0.0), "(x, y) added to every centreline point"),
+    _F("hand", "file?", "-", None, None, None,
+       "a learned hand (brushwork learn): its file, beside the style's; strokes are then written from its plans"),
     _F("profiles", "profiles", "-", None, None, None,
        "family (plain tapered flared rising dot hook) -> [[s 0..1, width factor], ...]", required=True),
 )
@@ -177,8 +179,10 @@ def _why(f: StyleField, value) -> str | None:
     """Why `value` does not fit field f (what is expected), or None when it does."""
     if f.kind == "str":
         return _check_str(f, value)
-    if f.kind == "float?" and value is None:
+    if f.kind in ("float?", "file?") and value is None:
         return None
+    if f.kind == "file?":
+        return None if isinstance(value, str) and value else "a file name or null"
     if f.kind == "pair":
         if not isinstance(value, list) or len(value) != 2:
             return "[x, y]"
@@ -231,6 +235,11 @@ class _StyleMethods:
                 raise StyleError(f"unknown style {name_or_path!r} (known: {', '.join(cls.names())})")
         return cls(**check_style(_read_json(path), str(path)))
 
+    def hand_path(self) -> Path:
+        """The hand file: `hand` as given when absolute, else beside the style files."""
+        path = Path(self.hand)
+        return path if path.is_absolute() else STYLE_DIR / path
+
     def density(self, strokes: int) -> float:
         """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
         return float(np.clip(1.0 - self.density_gain * (strokes - self.density_strokes), 0.7, 1.3))
@@ -265,7 +274,7 @@ def _dataclass_field(f: StyleField):
     return field(default=f.default)
 
 
-_TYPES = {"str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "scene": dict,
+_TYPES = {"file?": "str | None", "str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "scene": dict,
           "profiles": dict}
 # the dataclass of a style, its fields in the table's order (required ones first, as a dataclass needs)
 Style = make_dataclass(
