@@ -26,8 +26,8 @@ from .style import Style, family
 
 FIT_PX = 256              # px of the grid the passes compare on
 SAMPLES = 24              # points along the median where widths are compared
-PASSES = 6                # corrective passes a stroke
-MAX_PRESS_STEP = 0.06     # L: most press change a pass
+PASSES = 10               # corrective passes a stroke
+MAX_PRESS_STEP = 0.08     # L: most press change a pass
 MAX_ACROSS_STEP = 1.5     # mm: most move of the root across the stroke a pass
 PRESS_RESPONSE = np.linspace(0.0, 0.5, 26)     # L: presses of the response table
 
@@ -208,7 +208,7 @@ def _bounded(plan: StrokePlan) -> StrokePlan:
 
 
 def corrected(plan: StrokePlan, target: Profile, ink: Profile, frame: _StrokeFrame, resp: Response,
-              gain: float = 0.5) -> StrokePlan:
+              gain: float = 0.7) -> StrokePlan:
     """The plan moved by its ink's errors against the target along the median: press by the
     width error over the response's slope, across by the centre error, the travel's ends by the
     reach errors."""
