@@ -25,7 +25,8 @@ from .planned import InkGrid, PlanWriter
 from .style import Style, family
 
 FIT_PX = 256              # px of the grid the passes compare on
-SAMPLES = 24              # points along the median where widths are compared
+SAMPLES = 24              # points along the median where widths are compared, at least
+SAMPLE_MM = 2.0           # ... and at most this far apart
 PASSES = 10               # corrective passes a stroke
 MAX_PRESS_STEP = 0.08     # L: most press change a pass
 MAX_ACROSS_STEP = 1.5     # mm: most move of the root across the stroke a pass
@@ -156,7 +157,8 @@ class _StrokeFrame:
 
     def __init__(self, median: Median, ppm: float, em_mm: float):
         self.median, self.ppm = median, ppm
-        self.a = np.linspace(0.0, median.length, SAMPLES)                       # mm along the median
+        n = max(SAMPLES, int(median.length / SAMPLE_MM) + 1)
+        self.a = np.linspace(0.0, median.length, n)                             # mm along the median
         mm = median.at(self.a)
         head = median.heading(self.a)
         self.pts = np.stack([mm[:, 0] * ppm, (em_mm - mm[:, 1]) * ppm], axis=1)
@@ -175,8 +177,8 @@ GESTURES = {"plain": ((4, 1.0), (4, -2.0)), "tapered": ((4, 1.0), (3, 3.0)), "fl
 
 
 def controls_count(length_mm: float) -> int:
-    """Control values a channel of a stroke this long: one each ~15 mm, 4..8."""
-    return int(np.clip(round(length_mm / 15.0) + 3, 4, 8))
+    """Control values a channel of a stroke this long: one each ~10 mm, 5..12."""
+    return int(np.clip(round(length_mm / 10.0) + 4, 5, 12))
 
 
 def initial_plan(target: Profile, frame: _StrokeFrame, resp: Response, st: Style, kind: str) -> StrokePlan:
@@ -207,11 +209,25 @@ def _bounded(plan: StrokePlan) -> StrokePlan:
     return plan
 
 
+def _slope(resp: Response, press: np.ndarray, width: np.ndarray, seen: dict) -> np.ndarray:
+    """mm of width per L of press at each sample: the secant through this pass's and the last
+    pass's (press, ink width) where the press moved and the width rose with it, else the
+    response's slope. `seen` keeps the last pass's."""
+    slope = resp.slope(press)
+    if "press" in seen:
+        dp, dw = press - seen["press"], width - seen["width"]
+        ok = (np.abs(dp) > 0.005) & np.isfinite(dw)
+        secant = np.where(ok, dw / np.where(ok, dp, 1.0), 0.0)
+        slope = np.where(ok & (secant > 2.0), np.clip(secant, 5.0, 80.0), slope)
+    seen.update(press=press, width=width)
+    return slope
+
+
 def corrected(plan: StrokePlan, target: Profile, ink: Profile, frame: _StrokeFrame, resp: Response,
-              gain: float = 0.7) -> StrokePlan:
+              gain: float = 0.7, seen: dict | None = None) -> StrokePlan:
     """The plan moved by its ink's errors against the target along the median: press by the
-    width error over the response's slope, across by the centre error, the travel's ends by the
-    reach errors."""
+    width error over the width's slope in the press (`_slope`; `seen` carries the last pass's),
+    across by the centre error, the travel's ends by the reach errors."""
     med, ppm = frame.median, frame.ppm
     span = max(med.length + plan.start_mm + plan.end_mm, 1e-3)
     s = np.clip((frame.a + plan.start_mm) / span, 0.0, 1.0)
@@ -226,7 +242,8 @@ def corrected(plan: StrokePlan, target: Profile, ink: Profile, frame: _StrokeFra
                      plan.end_mm + gain * (target.after - ink.after) / ppm, plan.entry, plan.exit)
     # a pass moves the press at most MAX_PRESS_STEP and the root at most MAX_ACROSS_STEP mm (the
     # width is not monotone in the press: a full step across a plateau overshoots)
-    step = np.clip(gain * dw / resp.slope(press), -MAX_PRESS_STEP, MAX_PRESS_STEP)
+    slope = _slope(resp, press, np.nan_to_num(ink.width / ppm), {} if seen is None else seen)
+    step = np.clip(gain * dw / slope, -MAX_PRESS_STEP, MAX_PRESS_STEP)
     new.controls["press"] = fit_controls(s, press + step, k_p, smooth=0.01)
     new.controls["across"] = fit_controls(s, across + np.clip(gain * dc, -MAX_ACROSS_STEP, MAX_ACROSS_STEP), k_a,
                                           smooth=0.01)
@@ -269,11 +286,11 @@ class GlyphFitter:
         target = frame.profile(mask, reach)
         state = writer.brush.state().copy()
         plan = initial_plan(target, frame, self.resp, st, kind)
-        best = (-1.0, plan)
+        best, seen = (-1.0, plan), {}
         for _ in range(self.passes):
             score, ink = self._try(writer, grid, state, plan, median, mask)
             best = max(best, (score, plan), key=lambda t: t[0])
-            plan = corrected(plan, target, frame.profile(ink, reach), frame, self.resp)
+            plan = corrected(plan, target, frame.profile(ink, reach), frame, self.resp, seen=seen)
         best = self._polish(writer, grid, state, best, median, mask)
         # lay the best plan's ink for good, and leave the brush as that stroke left it
         self._try(writer, grid, state, best[1], median, mask)
