@@ -21,7 +21,8 @@ import numpy as np
 
 from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import PARTS, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..glyphs.score import (PARTS, corner_count, edge_figures, error_by_part, has_outlines, ink_beads, iou, pieces,
+                            stroke_masks)
 from ..writing import Style, Writer, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -78,7 +79,9 @@ def _score(task: tuple) -> tuple:
         scores = {"iou": iou(ink, ref), "round_pen_iou": iou(pen, ref), "extra_pieces": extra, "specks": specks,
                   "error_by_part": error_by_part(glyph, ink, masks), "broken_strokes": counts["breaks"],
                   "frames": counts["frames"], "held_frames": counts["holds"], "beads": counts["beads"],
-                  "solver": counts["solver"], **_edges(ink, ref, pen)}
+                  "solver": counts["solver"], "excess_corners": corner_count(ink) - corner_count(ref),
+                  "ink_beads": ink_beads(glyph, ink, masks), "outline_beads": ink_beads(glyph, ref, masks),
+                  **_edges(ink, ref, pen)}
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
@@ -189,6 +192,10 @@ def _summary(rows: dict, order: list) -> dict:
         **{f"{who}{k}": _pooled(rows, order, who + k) for who in ("", "round_pen_")
            for k in ("roughness", "perimeter_ratio", "extra_pieces")},
         "beads": _beads(rows, order), "solver": _solver(rows, order),
+        # corners of the ink's outline beyond the outlines' own (glyphs.score.corner_count), mean a
+        # character, and beads counted on the ink (glyphs.score.ink_beads)
+        "excess_corners": float(np.mean([rows[c]["excess_corners"] for c in order])) if order else None,
+        "ink_beads": _beads(rows, order, "ink_beads"), "outline_beads": _beads(rows, order, "outline_beads"),
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
         "extra_pieces": _total(rows, order, "extra_pieces"),
         "chars_with_extra_pieces": [c for c in order if rows[c]["extra_pieces"] > 0],
@@ -214,11 +221,11 @@ def _pooled(rows: dict, order: list, key: str):
     return float(np.median(values) if key.endswith("ratio") else np.mean(values))
 
 
-def _beads(rows: dict, order: list) -> dict:
+def _beads(rows: dict, order: list, key: str = "beads") -> dict:
     """Stroke family -> [strokes ending in a bead, strokes], over the characters."""
     out: dict = {}
     for c in order:
-        for fam, (n_bead, n) in rows[c]["beads"].items():
+        for fam, (n_bead, n) in rows[c][key].items():
             tally = out.setdefault(fam, [0, 0])
             tally[0] += n_bead
             tally[1] += n
@@ -260,7 +267,13 @@ def table(result: dict) -> str:
              f"| perimeter ratio (ink / outlines), median | {result['perimeter_ratio']:.3f} "
              f"| {result['round_pen_perimeter_ratio']:.3f} |",
              f"| ink pieces beyond the outlines' own | {result['extra_pieces']} | {result['round_pen_extra_pieces']} |",
+             f"| excess corners (turns of > 45 deg within +-8 px of the contour, ink's minus the outlines'), "
+             f"mean a character | {result['excess_corners']:.1f} | |",
              "",
+             "beads on the ink (a stroke's last 15% wider than its middle, away from other strokes): "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["ink_beads"].items())
+             + " (the outlines themselves, counted alike: "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["outline_beads"].items()) + ")",
              "beads at exits (strokes whose footprint necks and swells again at the end): "
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items()),
              f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "

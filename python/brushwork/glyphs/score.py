@@ -174,3 +174,52 @@ def edge_figures(mask: np.ndarray, sigma: float = EDGE_SIGMA_PX) -> tuple[float,
         return 0.0, 0.0
     dist = sum(float(np.hypot(*(c - _smooth_closed(c, sigma)).T).sum()) for c in loops)
     return dist / length, length
+
+
+# corners: a turn of more than CORNER_TURN_DEG within +-CORNER_CHORD_PX along a contour
+CORNER_CHORD_PX = 8
+CORNER_TURN_DEG = 45.0
+
+
+def corner_count(mask: np.ndarray) -> int:
+    """Corners of a bool mask's outlines: on each contour (resampled every px), the runs of points
+    where the chords CORNER_CHORD_PX back and ahead meet at less than 180 - CORNER_TURN_DEG deg.
+    A hexagonal head, a notch, a frame step or a bead's neck each count; a smooth curve does not."""
+    k = CORNER_CHORD_PX
+    cos_max = math.cos(math.radians(180.0 - CORNER_TURN_DEG))
+    n = 0
+    for c in contours(mask):
+        if len(c) <= 2 * k:
+            continue
+        back, ahead = np.roll(c, k, axis=0) - c, np.roll(c, -k, axis=0) - c
+        cos = (back * ahead).sum(axis=1) / np.maximum(np.hypot(*back.T) * np.hypot(*ahead.T), 1e-9)
+        sharp = cos > cos_max                       # the chords meet at less than 135 deg
+        if sharp.all():
+            n += 1
+            continue
+        n += int((sharp & ~np.roll(sharp, 1)).sum())     # runs around the closed contour
+    return n
+
+
+BEAD_END = 0.15        # the last 15% of a stroke's median
+
+
+def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray]) -> dict:
+    """Beads counted on the ink: family -> [strokes whose last BEAD_END of the median is wider in
+    the ink than the ink's median width over the middle (s 0.25..0.75), strokes]. Widths are taken
+    across the median where no other stroke's outline covers it (a join or crossing is not a bead)."""
+    from ..writing.fit import ink_widths
+    from ..writing.style import family
+
+    out: dict = {}
+    size = ink.shape[0]
+    for k, stroke in enumerate(glyph.strokes):
+        others = np.any([m for i, m in enumerate(masks) if i != k], axis=0) if len(masks) > 1 else np.zeros_like(ink)
+        s, width, covered = ink_widths(ink, stroke.points, size, others)
+        mid = width[(s >= 0.25) & (s <= 0.75) & ~covered]
+        end = width[(s >= 1.0 - BEAD_END) & ~covered]
+        tally = out.setdefault(family(stroke.kind), [0, 0])
+        tally[1] += 1
+        if len(mid) and len(end) and np.isfinite(mid).any():
+            tally[0] += int(np.nanmax(end, initial=0.0) > np.nanmedian(mid))
+    return out

@@ -315,3 +315,18 @@ def _changed(plan: StrokePlan, what: str, by: float) -> StrokePlan:
     else:
         setattr(new, what, getattr(plan, what) + by)
     return _bounded(new)
+
+
+def ink_widths(ink: np.ndarray, points_em: np.ndarray, size: int, covered_by: np.ndarray) -> tuple:
+    """The ink's width across a stroke's median (em points, y up) on a (size, size) mask, every
+    px along it: (s (n,), width px (n,) NaN where the ink misses the median, (n,) bool: the median
+    point lies in `covered_by`)."""
+    med = Median(np.asarray(points_em, dtype=float) * size)
+    frame = _StrokeFrame(med, 1.0, float(size))
+    frame.a = np.linspace(0.0, med.length, max(2, int(med.length) + 1))
+    mm = med.at(frame.a)
+    head = med.heading(frame.a)
+    frame.pts = np.stack([mm[:, 0], size - mm[:, 1]], axis=1)
+    frame.normal = np.stack([-np.sin(head), -np.cos(head)], axis=1)
+    prof = frame.profile(ink, 0.1 * size)
+    return frame.a / max(med.length, 1e-9), prof.width, _lookup(covered_by, frame.pts)
