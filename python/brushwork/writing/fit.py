@@ -29,6 +29,9 @@ SAMPLES = 24              # points along the median where widths are compared, a
 SAMPLE_MM = 2.0           # ... and at most this far apart
 PASSES = 10               # corrective passes a stroke
 MAX_PRESS_STEP = 0.08     # L: most press change a pass
+# frames half the style's step apart: the render sweeps straight between frames, and 1 mm frames
+# leave a tooth a frame on a curve's sides at 1024 px
+FRAME_SPEED = 0.5
 MAX_ACROSS_STEP = 1.5     # mm: most move of the root across the stroke a pass
 PRESS_RESPONSE = np.linspace(0.0, 0.5, 26)     # L: presses of the response table
 
@@ -172,8 +175,8 @@ class _StrokeFrame:
 
 
 # the gestures a stroke family starts from: (entry frames, 藏锋 back_mm), (exit frames, move_mm)
-GESTURES = {"plain": ((4, 1.0), (4, -2.0)), "tapered": ((4, 1.0), (3, 3.0)), "flared": ((4, 0.5), (3, 3.0)),
-            "rising": ((4, 1.0), (3, 3.0)), "dot": ((3, 0.5), (3, -1.0)), "hook": ((4, 1.0), (3, 3.0))}
+GESTURES = {"plain": ((6, 0.0), (6, -2.0)), "tapered": ((6, 0.0), (4, 3.0)), "flared": ((6, 0.0), (4, 3.0)),
+            "rising": ((6, 0.0), (4, 3.0)), "dot": ((4, 0.0), (4, -1.0)), "hook": ((6, 0.0), (4, 3.0))}
 
 
 def controls_count(length_mm: float) -> int:
@@ -196,7 +199,7 @@ def initial_plan(target: Profile, frame: _StrokeFrame, resp: Response, st: Style
     (ef, eb), (xf, xm) = GESTURES[family(kind)]
     ctl = {"press": fit_controls(s, press, k), "along": fit_controls(s, resp.at("behind_root", press), k),
            "across": fit_controls(s, centre, k), "tilt": [st.tilt_deg], "azimuth": [0.0], "twist": [0.0],
-           "speed": [1.0]}
+           "speed": [FRAME_SPEED]}
     return _bounded(StrokePlan(ctl, start, end, Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm)))
 
 

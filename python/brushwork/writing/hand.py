@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from .driver import joins
-from .fit import GESTURES, controls_count
+from .fit import FRAME_SPEED, GESTURES, controls_count
 from .plan import CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
 from .style import PROFILE_FAMILIES, Style, family
 
@@ -134,7 +134,7 @@ class Hand:
 def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> StrokePlan:
     k, n = controls_count(length), len(S)
     ctl = {c: fit_controls(S, row[i * n:(i + 1) * n], k) for i, c in enumerate(LEARNED)}
-    ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[1.0])
+    ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[FRAME_SPEED])
     (ef, eb), (xf, xm) = GESTURES[fam]
     return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-2]), float(row[-1]),
                       Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm))
