@@ -118,3 +118,32 @@ def test_a_learned_hand_writes_a_character_from_its_medians_alone(tmp_path, caps
     ink = cv2.imread(str(png), cv2.IMREAD_GRAYSCALE) < 128
     glyph = load_source(SOURCE, "明")["明"]
     assert iou(ink, outline_mask(glyph, 256)) > 0.5           # 明 was not among the fitted characters
+
+
+def test_corners_count_sharp_turns_of_an_outline_and_not_a_smooth_one():
+    import cv2
+
+    from brushwork.glyphs.score import corner_count
+
+    disk = np.zeros((400, 400), np.uint8)
+    cv2.circle(disk, (200, 200), 120, 1, -1)
+    square = np.zeros_like(disk)
+    square[100:300, 100:300] = 1
+    assert corner_count(disk.astype(bool)) == 0
+    assert corner_count(square.astype(bool)) == 4
+
+
+def test_a_bulb_at_a_strokes_end_is_a_bead_on_the_ink():
+    import cv2
+
+    from brushwork.glyphs.model import Glyph, Stroke
+    from brushwork.glyphs.score import ink_beads
+
+    glyph = Glyph("一", ord("一"), [Stroke(np.array([[0.2, 0.5], [0.8, 0.5]]), "㇐")], "", (0.0, 0.0, 1.0, 1.0), False)
+    plain = np.zeros((256, 256), np.uint8)
+    cv2.line(plain, (51, 128), (205, 128), 1, 12)
+    bulb = plain.copy()
+    cv2.circle(bulb, (200, 128), 14, 1, -1)
+    masks = [plain.astype(bool)]
+    assert ink_beads(glyph, plain.astype(bool), masks) == {"plain": [0, 1]}
+    assert ink_beads(glyph, bulb.astype(bool), masks) == {"plain": [1, 1]}
