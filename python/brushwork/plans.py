@@ -69,8 +69,9 @@ def _done(out: str, glyphs: dict) -> dict:
     return done
 
 
-def fit_handle(args: argparse.Namespace) -> int:
-    from .batch import parallel_map, parse_charset, read_charset
+def _fit_glyphs(args: argparse.Namespace) -> tuple[dict, dict]:
+    """({char: glyph} to fit, {char: one-line error}) for the characters the arguments name."""
+    from .batch import parse_charset, read_charset
     from .glyphs import load_source
     from .glyphs.score import has_outlines
     from .writing import Style
@@ -86,19 +87,26 @@ def fit_handle(args: argparse.Namespace) -> int:
     bad = {c: f"{c}: no stroke outlines to fit to (only Make Me a Hanzi's mmah: sources have them)"
            for c, g in glyphs.items() if not has_outlines(g)}
     bad.update({str(getattr(e, "char", "?")): " ".join(str(e).split()) for e in errors})
-    glyphs = {c: g for c, g in glyphs.items() if c not in bad}
+    return {c: g for c, g in glyphs.items() if c not in bad}, bad
+
+
+def fit_handle(args: argparse.Namespace) -> int:
+    from .batch import parallel_map
+
+    glyphs, bad = _fit_glyphs(args)
     os.makedirs(args.out, exist_ok=True)
     done = _done(args.out, glyphs)
     tasks = [(c, g) for c, g in glyphs.items() if c not in done]
     scores, seconds = dict(done), []
-    for char, score, sec, err in parallel_map(_fit_one, tasks, args.jobs, _init, (args.style, args.out),
-                                              args.executor):
+    for n, (char, score, sec, err) in enumerate(parallel_map(_fit_one, tasks, args.jobs, _init,
+                                                              (args.style, args.out), args.executor), 1):
         if err is not None:
             bad[char] = err
         else:
-            scores[char], seconds[len(seconds):] = score, [sec]
+            scores[char] = score
+            seconds.append(sec)
         if not args.no_progress:
-            print(f"{len(scores) + len(bad) - len(done)}/{len(tasks)} {char} "
+            print(f"{n}/{len(tasks)} {char} "
                   + (f"IoU {score:.3f} {sec:.1f} s" if err is None else f"failed: {err}"), file=sys.stderr)
     _fit_summary(scores, seconds, len(done), bad)
     return 2 if bad else 0
