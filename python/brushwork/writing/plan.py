@@ -219,11 +219,12 @@ class Frames:
 
 
 def _travel_s(plan: StrokePlan, span: float, step_mm: float) -> np.ndarray:
-    """The travel's s values: frames speed(s) * step_mm apart over `span` mm."""
+    """The travel's s values: frames speed(s) * step_mm apart (at least 0.05 mm) over `span` mm."""
+    grid = np.linspace(0.0, 1.0, 513)
+    gap = np.maximum(plan.channel("speed", grid) * step_mm, 0.05) / max(span, 1e-6)   # s a frame
     s, out = 0.0, [0.0]
     while s < 1.0:
-        v = float(plan.channel("speed", np.array([s]))[0])
-        s = min(1.0, s + max(v * step_mm, 0.05) / max(span, 1e-6))
+        s = min(1.0, s + float(np.interp(s, grid, gap)))
         out.append(s)
     return np.array(out)
 

@@ -22,8 +22,9 @@ _SHIFT = 4                # cv2.fillPoly fixed-point bits
 
 
 def _area(loop: np.ndarray) -> float:
+    """Signed area (shoelace) of a closed polygon (k, 2): > 0 counter-clockwise."""
     x, y = loop[:, 0], loop[:, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return 0.5 * float(x[:-1] @ y[1:] - y[:-1] @ x[1:] + x[-1] * y[0] - y[-1] * x[0])
 
 
 class InkGrid:
