@@ -147,3 +147,13 @@ def test_a_bulb_at_a_strokes_end_is_a_bead_on_the_ink():
     masks = [plain.astype(bool)]
     assert ink_beads(glyph, plain.astype(bool), masks) == {"plain": [0, 1]}
     assert ink_beads(glyph, bulb.astype(bool), masks) == {"plain": [1, 1]}
+
+
+@pytest.mark.parametrize("style", ["kai-learned", "xing-learned"])
+def test_the_shipped_learned_styles_write_from_medians_alone(style, tmp_path):
+    import cv2
+
+    png = tmp_path / "ming.png"
+    assert main(["render", "明", "--style", style, "--source", SOURCE, "--size", "256", "-o", str(png)]) == 0
+    ink = cv2.imread(str(png), cv2.IMREAD_GRAYSCALE) < 128
+    assert iou(ink, outline_mask(load_source(SOURCE, "明")["明"], 256)) > 0.6
