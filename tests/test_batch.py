@@ -11,13 +11,15 @@ import cv2
 import numpy as np
 import pytest
 
-from brushwork import batch, cli
+from brushwork import batch, cli, pool
 from brushwork.bench import glyphs as bench_glyphs
 from brushwork.glyphs import load_source
 from brushwork.glyphs import sources as glyph_sources
 from brushwork.glyphs.score import beaded, iou, outline_mask
 from brushwork.recorded import root_height
-from brushwork.writing import Style, Writer, render_glyph
+from brushwork.commands import render as render_command
+from brushwork.glyphs import charsets
+from brushwork.writing import Style, Writer, render_glyph, text_paper
 from brushwork.writing.targets import _resample
 from brushwork.sheet import Cell, FontDrawer, contact_sheet, find_reference_font
 
@@ -199,8 +201,8 @@ def test_render_refuses_in_one_line_what_it_cannot_write(tmp_path, capsys, monke
 
 
 def test_render_limits_the_text(tmp_path, capsys):
-    assert run_cli("render", "一" * (batch.MAX_TEXT_CHARS + 1), "-o", tmp_path / "x.png", "--size", 16) == 2
-    assert f"at most {batch.MAX_TEXT_CHARS}" in capsys.readouterr().err
+    assert run_cli("render", "一" * (render_command.MAX_TEXT_CHARS + 1), "-o", tmp_path / "x.png", "--size", 16) == 2
+    assert f"at most {render_command.MAX_TEXT_CHARS}" in capsys.readouterr().err
 
 
 def test_batch_into_a_file_is_one_plain_line(tmp_path, capsys):
@@ -225,9 +227,9 @@ def test_a_resumed_batch_renders_again_a_file_that_does_not_decode(tmp_path, cap
 
 def test_a_row_wider_than_the_paper_allows_is_refused(mmah_glyphs):
     with pytest.raises(ValueError, match="5 characters x 8192 px = 40960 px wide"):
-        batch.text_paper([mmah_glyphs["永"]] * 5, 8192)
+        text_paper([mmah_glyphs["永"]] * 5, 8192)
     with pytest.raises(ValueError, match="no characters"):
-        batch.text_paper([], 64)
+        text_paper([], 64)
 
 
 def test_render_16_bit_on_transparency(tmp_path):
@@ -354,13 +356,13 @@ def test_a_cleared_paper_writes_what_a_new_one_does(mmah_glyphs):
     # a batch worker keeps one paper and clears it for each character: nothing of the last
     # character may show in the next (ink, the stroke layer, its kept alpha, undo)
     a, b = list(mmah_glyphs.values())[:2]
-    fresh = batch.text_paper([b], 96, "kai", seed=3).image()
-    kept = batch.text_paper([a], 96, "kai", seed=3)
+    fresh = text_paper([b], 96, "kai", seed=3).image()
+    kept = text_paper([a], 96, "kai", seed=3)
     kept.clear()
     assert not kept.undo() and kept.image().min() == 255
-    assert np.array_equal(batch.text_paper([b], 96, "kai", seed=3, paper=kept).image(), fresh)
+    assert np.array_equal(text_paper([b], 96, "kai", seed=3, paper=kept).image(), fresh)
     with pytest.raises(ValueError, match="cannot take 2"):
-        batch.text_paper([a, b], 96, "kai", paper=kept)
+        text_paper([a, b], 96, "kai", paper=kept)
 
 
 def test_bench_batch_reports_a_rate_and_where_the_time_goes(tmp_path, capsys):
@@ -385,13 +387,13 @@ def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path)
 def test_batch_charset_files(tmp_path):
     cs = tmp_path / "set.txt"
     cs.write_text("永 和\n永明\n", encoding="utf-8")
-    assert batch.read_charset(cs) == "永和明"
+    assert charsets.read_charset(cs) == "永和明"
     empty = tmp_path / "empty.txt"
     empty.write_text(" \n", encoding="utf-8")
     with pytest.raises(ValueError, match="no characters"):
-        batch.read_charset(empty)
-    assert len(batch.read_charset("gb2312")) == 6763
-    level1 = batch.gb2312(1)
+        charsets.read_charset(empty)
+    assert len(charsets.read_charset("gb2312")) == 6763
+    level1 = charsets.gb2312(1)
     assert len(level1) == 3755 and level1[0] == "啊"
 
 
@@ -399,7 +401,7 @@ def test_progress_lines_when_not_a_terminal():
     import io
 
     log = io.StringIO()
-    bar = batch.Progress(3, stream=log, every_s=0.0)
+    bar = pool.Progress(3, stream=log, every_s=0.0)
     for ok in (True, False, True):
         bar.update(ok)
     bar.close()

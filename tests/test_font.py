@@ -31,7 +31,7 @@ def fonts(tmp_path_factory):
 @pytest.fixture(scope="module")
 def renders():
     """The brush's own 512 px render of each character, as `brushwork render CHAR --size 512` draws it."""
-    from brushwork.batch import text_paper
+    from brushwork.writing import text_paper
     from brushwork.glyphs import load_source
 
     glyphs = load_source("default", CHARS)

@@ -8,6 +8,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from brushwork import cli
 from brushwork.bench import fuzz
 
 FUZZ = settings(max_examples=150, deadline=None, derandomize=True, database=None,
@@ -25,14 +26,14 @@ def folder(tmp_path):
 @given(rng=st.randoms(use_true_random=False), render=st.integers(0, 9))
 def test_glyph_files_load_render_or_fail_in_one_line(folder, rng, render):
     text = fuzz.glyph_json(rng)
-    assert fuzz.check_glyph(text, folder, render=render == 0) is None
+    assert fuzz.check_glyph(cli.main, text, folder, render=render == 0) is None
 
 
 @FUZZ
 @given(rng=st.randoms(use_true_random=False), render=st.integers(0, 9))
 def test_style_files_load_render_or_fail_in_one_line(folder, rng, render):
     text = fuzz.style_json(rng)
-    assert fuzz.check_style(text, folder, render=render == 0) is None
+    assert fuzz.check_style(cli.main, text, folder, render=render == 0) is None
 
 
 @settings(FUZZ, max_examples=300)
@@ -50,7 +51,7 @@ def test_any_svg_text_parses_or_fails_in_one_line(d):
 @settings(FUZZ, max_examples=200)
 @given(rng=st.randoms(use_true_random=False))
 def test_command_lines_succeed_or_fail_in_one_line(folder, rng):
-    assert fuzz.check_argv(fuzz.argv(rng), folder) is None
+    assert fuzz.check_argv(cli.main, fuzz.argv(rng), folder) is None
 
 
 @settings(FUZZ, max_examples=200)
@@ -60,7 +61,7 @@ def test_command_lines_succeed_or_fail_in_one_line(folder, rng):
 def test_token_soups_succeed_or_fail_in_one_line(folder, args):
     if "render" in args or "batch" in args:       # a command that renders does so tiny
         args = args + ["--size", "16"]
-    assert fuzz.check_argv(args, folder) is None
+    assert fuzz.check_argv(cli.main, args, folder) is None
 
 
 def test_the_checks_see_failures(folder):
@@ -75,8 +76,6 @@ def test_the_checks_see_failures(folder):
 
 
 def test_bench_fuzz_counts_per_kind(tmp_path, capsys):
-    from brushwork import cli
-
     out = tmp_path / "fuzz.json"
     assert cli.main(["bench", "fuzz", "--n", "60", "--render-every", "1000", "--json", str(out)]) == 0
     result = json.loads(out.read_text())

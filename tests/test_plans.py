@@ -137,7 +137,7 @@ def test_a_bulb_at_a_strokes_end_is_a_bead_on_the_ink():
     import cv2
 
     from brushwork.glyphs.model import Glyph, Stroke
-    from brushwork.glyphs.score import ink_beads
+    from brushwork.bench.glyphs import ink_beads
 
     glyph = Glyph("一", ord("一"), [Stroke(np.array([[0.2, 0.5], [0.8, 0.5]]), "㇐")], "", (0.0, 0.0, 1.0, 1.0), False)
     plain = np.zeros((256, 256), np.uint8)

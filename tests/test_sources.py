@@ -8,7 +8,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from brushwork import batch
 from brushwork.glyphs import GlyphError, STROKE_TYPES, load_source
 from brushwork.glyphs import charsets, medians
 from brushwork.glyphs import sources as glyph_sources
@@ -32,13 +31,13 @@ def test_gb2312_charsets():
     assert codes == sorted(codes) and every[0] == "啊" and every[-1] == "齄"
     assert all(0xB0 <= b[0] <= 0xF7 and 0xA1 <= b[1] <= 0xFE for b in codes)
     assert charsets.named("GB2312-1") == one and charsets.named("gb2312-3") is None
-    assert batch.read_charset("gb2312") == every and batch.read_charset("gb2312-1") == one
+    assert charsets.read_charset("gb2312") == every and charsets.read_charset("gb2312-1") == one
 
 
 def test_a_charset_file_named_like_a_builtin_wins(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     Path("gb2312").write_text("永 和\n", encoding="utf-8")
-    assert batch.read_charset("gb2312") == "永和"
+    assert charsets.read_charset("gb2312") == "永和"
 
 
 def test_default_source_has_all_of_gb2312():

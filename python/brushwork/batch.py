@@ -1,5 +1,5 @@
-"""Rendering characters to PNG files: one text on one image (`brushwork render`) or a whole set
-of characters, one file each, in parallel (`brushwork batch`).
+"""A whole set of characters to PNG files, one file each, in parallel (`brushwork batch`), and a
+contact sheet of them.
 
 A batch is resumable: outputs are named by code point (U+6C38.png), every write is atomic (a
 temporary file renamed into place), and a file that already exists is skipped, so an interrupted
@@ -8,139 +8,23 @@ glyph file, a rendering error) is reported at the end and the rest go on; the ex
 """
 from __future__ import annotations
 
-import multiprocessing as mp
 import os
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from .glyphs import charsets, load_source
-from .glyphs.charsets import gb2312  # noqa: F401  (batch.gb2312: the benchmarks' pool)
+from .files import check_bits, decodes, os_error_text, save_paper
+from .glyphs import load_source
 from .glyphs.sources import add_source_hint
-from .files import decodes, os_error_text, save_paper
-from .paper import Paper
-from .writing import Style, Writer, check_samples, check_size, writing_paper
-from .writing.driver import MAX_SIDE
-from .writing.plan import load_plan
-
-# each worker on one core: llvmpipe rasterises in the calling thread (LP_NUM_THREADS=0; with 1
-# it hands every draw to a second thread and the two take turns: ~18% slower, measured on
-# kai 1024 px with one sample), one BLAS thread
-_ONE_THREAD = {"LP_NUM_THREADS": "0", "OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
+from .pool import Progress, check_executor, parallel_map
+from .writing import Style, check_samples, check_seed, check_size, text_paper
 
 
 def output_name(char: str) -> str:
     """The batch's file name for char: U+XXXX.png (upper-case hex, at least 4 digits)."""
     return f"U+{ord(char):04X}.png"
-
-
-MAX_TEXT_CHARS = 256     # characters `brushwork render` writes on one image (a batch takes any number)
-MAX_SEED = 2 ** 63 - 1
-
-
-def check_bits(bits: int) -> int:
-    if bits not in (8, 16):
-        raise ValueError(f"--bits {bits}: expected 8 or 16")
-    return bits
-
-
-def check_seed(seed: int) -> int:
-    if not 0 <= seed <= MAX_SEED:
-        raise ValueError(f"--seed {seed}: expected a non-negative integer (0..2^63-1)")
-    return seed
-
-
-def text_chars(text: str) -> str:
-    """The characters `render` writes: every non-space character of text, in order, a repeated
-    one written again; ValueError when there are none or more than MAX_TEXT_CHARS."""
-    chars = "".join(c for c in text if not c.isspace())
-    if not chars:
-        raise ValueError("no characters to render")
-    if len(chars) > MAX_TEXT_CHARS:
-        raise ValueError(f"{len(chars)} characters: `render` writes at most {MAX_TEXT_CHARS} on one image; "
-                         "use `brushwork batch` for more")
-    return chars
-
-
-def check_request(chars: str, size: int, bits: int, samples: int | None, seed: int) -> None:
-    """The numbers of a render request, checked before any work: size, bits, samples, seed and
-    the image's width (chars x size px, at most writing.MAX_SIDE)."""
-    check_size(size)
-    check_bits(bits)
-    check_samples(samples)
-    check_seed(seed)
-    if len(chars) * size > MAX_SIDE:
-        raise ValueError(f"{len(chars)} characters x {size} px = {len(chars) * size} px wide: more than "
-                         f"{MAX_SIDE}; use a smaller size or `brushwork batch`")
-
-
-def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
-               samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
-               plans: str | os.PathLike | None = None) -> Paper:
-    """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
-    per glyph filling a size x size square, by one brush: ink and wetness carry from character
-    to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
-    stroke layer (None: the style's scene, 4 unless it says otherwise; 1 is ~2.5x faster on a
-    software renderer, with edges stepped at the pixel). counts: a dict that receives the frames
-    written, the strokes broken (the brush down again after a lift within one stroke), the
-    frames held (Writer._step), the beads at exits by stroke family (Writer.beads) and the
-    solver's figures (Writer.solver). paper: one made earlier by writing_paper for as many glyphs
-    at this size, style and samples, cleared and written again (a batch worker keeps one: a new 1024 px
-    paper allocates and clears its textures, ~12 ms, and page-faults them in again as it draws).
-    plans: a folder of plan files (brushwork fit): each glyph is written from its plan, in the
-    source's em box."""
-    st = style if isinstance(style, Style) else Style.load(style)
-    if paper is None:
-        paper = writing_paper(st, size, len(glyphs), samples)
-    else:
-        if (paper.width_px, paper.height_px) != (len(glyphs) * size, size):
-            raise ValueError(f"a {paper.width_px} x {paper.height_px} px paper cannot take {len(glyphs)} "
-                             f"character(s) at {size} px")
-        paper.clear()
-    writer = Writer(paper, st, seed)
-    for k, glyph in enumerate(glyphs):
-        if plans is not None:
-            writer.write_planned(glyph, load_plan(plans, glyph.char, len(glyph.strokes)), (k * st.em_mm, 0.0))
-        else:
-            writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
-    if counts is not None:
-        counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds, beads=writer.beads,
-                      solver=writer.solver)
-    return paper
-
-
-def writing_stats(counts: dict) -> dict:
-    """The figures of a writing from text_paper's `counts`: frames, frames held, strokes broken,
-    solver steps and those stopped at the iteration cap q_max, SQP iterations, sub-steps, the
-    deepest penetration (mm), beads at exits by stroke family ([beaded, strokes])."""
-    solver = counts["solver"]
-    return {"frames": counts["frames"], "frames_held": counts["holds"], "strokes_broken": counts["breaks"],
-            "solver_steps": solver["steps"], "frames_at_q_max": solver["steps_at_q_max"],
-            "iterations": solver["iterations"], "substeps": solver["substeps"],
-            "max_penetration_mm": solver["max_penetration_mm"], "beads": counts["beads"]}
-
-
-def parse_charset(text: str) -> str:
-    """The characters of a charset: every non-space character, in order, duplicates dropped."""
-    return "".join(dict.fromkeys(c for c in text if not c.isspace()))
-
-
-def read_charset(path: str | os.PathLike) -> str:
-    """A charset file's characters; the names gb2312, gb2312-1 and gb2312-2 are built in."""
-    builtin = None if Path(path).exists() else charsets.named(str(path))
-    if builtin is not None:
-        return builtin
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except UnicodeDecodeError as err:
-        raise ValueError(f"{path}: not UTF-8 text: {err}") from None
-    chars = parse_charset(text)
-    if not chars:
-        raise ValueError(f"{path}: no characters in the charset file")
-    return chars
 
 
 # --- the worker side (one process per job; each owns a brush, a GL context and its papers) ---
@@ -152,8 +36,8 @@ def _init_worker(style_name: str, size: int, seed: int, bits: int, background: s
     # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
     # size and scene: drop it
     _JOB.clear()
-    _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
-                samples=samples, plans=plans)
+    _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background, plans=plans,
+                samples=samples)
 
 
 def _render_one(task: tuple) -> tuple:
@@ -187,48 +71,12 @@ class BatchResult:
         return len(self.written) / self.seconds if self.seconds > 0 else 0.0
 
 
-class Progress:
-    """A progress bar on stderr: redrawn in place on a terminal, a line every few seconds otherwise."""
-
-    def __init__(self, total: int, stream=None, every_s: float = 5.0):
-        self.total, self.done, self.failed = total, 0, 0
-        self.stream = stream or sys.stderr
-        self.tty = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.t0 = self.last = time.monotonic()
-        self.every = every_s
-
-    def update(self, ok: bool) -> None:
-        self.done += 1
-        self.failed += 0 if ok else 1
-        now = time.monotonic()
-        if self.tty or now - self.last >= self.every or self.done == self.total:
-            self.last = now
-            self._draw(now)
-
-    def _draw(self, now: float) -> None:
-        rate = self.done / max(now - self.t0, 1e-9)
-        left = (self.total - self.done) / rate if rate > 0 else 0.0
-        filled = int(30 * self.done / max(self.total, 1))
-        line = (f"[{'#' * filled}{'.' * (30 - filled)}] {self.done}/{self.total}  {rate:.2f} chars/s  "
-                f"ETA {int(left // 60)}:{int(left % 60):02d}" + (f"  {self.failed} failed" if self.failed else ""))
-        self.stream.write(("\r" + line) if self.tty else (line + "\n"))
-        self.stream.flush()
-
-    def close(self) -> None:
-        if self.tty:
-            self.stream.write("\n")
-            self.stream.flush()
-
-
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None,
               executor: str = "local", plans: str | None = None) -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
-    (whole: a file that does not decode is rendered again), in local worker processes or on Ray;
-    `plans`: a folder of plan files to write the characters from."""
-    from .raymap import check_executor
-
+    (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
     check_executor(executor)
     size, bits, seed, samples = check_size(size), check_bits(bits), check_seed(seed), check_samples(samples)
     Style.load(style)                                        # a bad style fails now, not in every worker
@@ -291,43 +139,6 @@ def _run_tasks(tasks: list, jobs: int, init: tuple, result: BatchResult, progres
         result.seconds = time.perf_counter() - t0
         if bar is not None:
             bar.close()
-
-
-def parallel_map(fn, tasks: list, jobs: int, initializer, initargs: tuple, executor: str = "local"):
-    """fn over tasks in `jobs` worker processes (in this one when jobs is 1), or as Ray tasks
-    (executor "ray"), results in the order they finish. Workers are spawned, not forked: a forked
-    child must not inherit a GL context."""
-    if executor == "ray":
-        from .raymap import ray_map
-
-        yield from ray_map(fn, tasks, jobs, initializer, initargs)
-        return
-    if jobs == 1 or len(tasks) <= 1:
-        initializer(*initargs)
-        yield from map(fn, tasks)
-        return
-    # each worker rasterises on one thread: with as many workers as cores, llvmpipe's and
-    # OpenBLAS's own threads only contend (2 jobs on 2 cores: 2.1 -> 2.8 chars/s measured)
-    saved = {k: os.environ.get(k) for k in _ONE_THREAD}
-    os.environ.update(_ONE_THREAD)
-    try:
-        pool = mp.get_context("spawn").Pool(min(jobs, len(tasks)), _quiet_init, (initializer, initargs))
-    finally:
-        for k, v in saved.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-    with pool:
-        yield from pool.imap_unordered(fn, tasks)
-
-
-def _quiet_init(initializer, initargs: tuple) -> None:
-    """A worker leaves Ctrl-C to the parent, which stops the pool and prints the summary."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    initializer(*initargs)
 
 
 def sheet_cells(chars: str, out_dir: str | os.PathLike, failed: dict) -> list:

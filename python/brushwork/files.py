@@ -69,6 +69,13 @@ def write_atomic(path: str | os.PathLike, write: Callable[[str], None], suffix: 
             os.unlink(tmp)
 
 
+def check_bits(bits: int) -> int:
+    """Bits per channel of an image written: 8 or 16."""
+    if bits not in (8, 16):
+        raise ValueError(f"--bits {bits}: expected 8 or 16")
+    return bits
+
+
 def check_image_path(path: str | os.PathLike, bits: int = 8, transparent: bool = False) -> str:
     """The image suffix of `path` (.png .jpg .jpeg .tif .tiff .bmp .webp) when it can take `bits`
     per channel and transparency, and its folder is writable; ValueError in one line otherwise."""

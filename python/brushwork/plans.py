@@ -71,8 +71,8 @@ def _done(out: str, glyphs: dict) -> dict:
 
 def _fit_glyphs(args: argparse.Namespace) -> tuple[dict, dict]:
     """({char: glyph} to fit, {char: one-line error}) for the characters the arguments name."""
-    from .batch import parse_charset, read_charset
     from .glyphs import load_source
+    from .glyphs.charsets import parse_charset, read_charset
     from .glyphs.score import has_outlines
     from .writing import Style
 
@@ -91,7 +91,7 @@ def _fit_glyphs(args: argparse.Namespace) -> tuple[dict, dict]:
 
 
 def fit_handle(args: argparse.Namespace) -> int:
-    from .batch import parallel_map
+    from .pool import parallel_map
 
     glyphs, bad = _fit_glyphs(args)
     os.makedirs(args.out, exist_ok=True)

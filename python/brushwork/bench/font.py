@@ -7,15 +7,17 @@ that trade: the traced edge before any fitting, filled by area coverage as FreeT
 outline, against the render's pixels thresholded at half coverage."""
 from __future__ import annotations
 
+import argparse
 import os
 import tempfile
 import time
 
 import numpy as np
 
-from .. import batch as bt
 from ..font.outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
 from ..font.trace import SMOOTH_PX
+from ..glyphs.charsets import gb2312
+from ..writing import text_paper
 from .report import markdown_table
 
 TOLERANCES = (0.1, 0.25, 0.5, 1.0, 2.0, 2.5)     # px of the 512 px render: the trade-off table's rows
@@ -35,7 +37,7 @@ def add_arguments(p) -> None:
 
 def sample(count: int) -> str:
     """count characters of GB2312 at even steps through the set."""
-    pool = bt.gb2312()
+    pool = gb2312()
     if count < 1:
         raise ValueError(f"--count {count}: expected >= 1")
     return "".join(dict.fromkeys(pool[int(i)] for i in np.linspace(0, len(pool) - 1, min(count, len(pool)))))
@@ -69,7 +71,7 @@ def _trade_row(tol: float, renders: dict, em: Em, folder: str) -> dict:
     fit_s = (time.perf_counter() - t0) / len(renders)
     path = write_font(outlines, os.path.join(folder, f"tol{tol}.otf"))
     return {"tolerance_px": tol, "points_median": float(np.median([point_count(o) for o in outlines.values()])),
-            "otf_mb_gb2312": os.path.getsize(path) / len(renders) * len(bt.gb2312()) / 1e6,
+            "otf_mb_gb2312": os.path.getsize(path) / len(renders) * len(gb2312()) / 1e6,
             "trace_fit_s": fit_s, **_fidelity(path, renders, em)}
 
 
@@ -129,17 +131,17 @@ def run(count: int = 60, jobs: int = 2, executor: str = "local", style: str = "k
         ttf = os.path.join(tmp, "bench.ttf")
         build_font(chars, ttf, style=style, jobs=1)                # from the cache: glyf assembly only
         glyphs = load_source("default", chars)
-        renders = {c: bt.text_paper([glyphs[c]], em.size, style).image() for c in res.made}
+        renders = {c: text_paper([glyphs[c]], em.size, style).image() for c in res.made}
         n = len(res.made)
         result = {"characters": n, "failed": res.failed, "jobs": jobs, "executor": executor,
                   "tolerance_px": FIT_TOL_PX, "size_px": em.size,
                   "points_median": float(np.median(res.points)), "ttf_points_median": _ttf_points(ttf),
                   "otf_bytes": os.path.getsize(otf),
-                  "otf_mb_gb2312": os.path.getsize(otf) / n * len(bt.gb2312()) / 1e6,
+                  "otf_mb_gb2312": os.path.getsize(otf) / n * len(gb2312()) / 1e6,
                   "seconds": res.seconds, "s_per_glyph": res.seconds / n,
-                  "gb2312_min": res.seconds / n * len(bt.gb2312()) / 60.0,
+                  "gb2312_min": res.seconds / n * len(gb2312()) / 60.0,
                   "cpu_s_per_glyph": res.cpu_seconds / n,
-                  "gb2312_min_cpu": (res.cpu_seconds / jobs + res.write_seconds) / n * len(bt.gb2312()) / 60.0,
+                  "gb2312_min_cpu": (res.cpu_seconds / jobs + res.write_seconds) / n * len(gb2312()) / 60.0,
                   "load": os.getloadavg()[0],
                   **_fidelity(otf, renders, em), "ttf": _fidelity(ttf, renders, em)}
         result["tradeoff"] = [_trade_row(t, renders, em, tmp) for t in tolerances]
@@ -189,3 +191,10 @@ def table(r: dict) -> str:
                  f"IoU {c['smoothed']['iou_median']:.4f} / {c['smoothed']['iou_min']:.4f} (median / min)")
     lines += [f"failed {c}: {why}" for c, why in r["failed"]]
     return "\n".join(lines)
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import run_benchmark
+
+    tols = [float(t) for t in args.tolerances.split(",") if t.strip()]
+    return run_benchmark("font", args, lambda: run(args.count, args.jobs, args.executor, args.style, tols), table)

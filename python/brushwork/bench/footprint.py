@@ -7,6 +7,7 @@ frames ("static"); the "dragged" figure is the mean over frames 31-40 of a drag 
 """
 from __future__ import annotations
 
+import argparse
 import numpy as np
 
 from ..brush import Brush, Pose
@@ -96,3 +97,33 @@ def table(result: dict) -> str:
             "(mm) against the press depth below first contact\n"
             f"frame-to-frame change of the footprint area, 15°, 0.25 L drag: "
             f"{100 * result['flicker_15deg_025L']:.0f}% of its mean")
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+    p.add_argument("--set", metavar="NAME=VALUE", action="append", default=[],
+                   help="override a model field, e.g. --set internal_friction=0.3 (repeatable)")
+
+
+def parse_settings(items: list[str]) -> dict:
+    """--set NAME=VALUE items -> {name: bool | int | float}."""
+    settings = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep:
+            raise ValueError(f"--set {item!r}: expected NAME=VALUE")
+        text = value.strip().lower()
+        if text in ("true", "false"):
+            settings[name.strip()] = text == "true"
+        else:
+            settings[name.strip()] = int(text) if text.lstrip("-").isdigit() else float(text)
+    return settings
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import check_preset, progress, run_benchmark
+
+    check_preset(args.preset)
+    settings = parse_settings(args.set)
+    return run_benchmark("footprint", args, lambda: run(args.preset, progress=progress, settings=settings), table)

@@ -3,7 +3,8 @@ lines, valid and broken. Every input must end in success or a one-line error wit
 never a traceback, another exit code, a hang past a time limit or a partial output file.
 
 The generators take a `random.Random` and return one input; the test suite drives them through
-Hypothesis (tests/test_fuzz.py), `brushwork bench fuzz --n N` through a seeded loop. Valid glyphs
+Hypothesis (tests/test_fuzz.py), `brushwork bench fuzz --n N` through a seeded loop; command lines
+go through the entry point the caller hands in (the CLI's `main`). Valid glyphs
 and styles are rendered at 16 px only every `render_every` inputs, so most inputs exercise parsing
 and validation.
 """
@@ -23,6 +24,8 @@ from typing import Callable
 
 TIMEOUT_S = 20.0      # an input running longer than this is a hang
 CHAR = "一"           # the character the glyph inputs draw
+
+Entry = Callable[[list], int]   # the command line's entry point: argv -> exit code (brushwork.cli.main)
 
 # numbers a broken input puts where a value belongs: edge values, wrong types, huge, tiny, non-finite
 ODD_VALUES = [0, -1, 1, 2.5, 1e300, -1e300, 1e-300, 1e6, -1e6, float("nan"), float("inf"), "abc", "", None, True,
@@ -164,14 +167,13 @@ def _time_limit(seconds: float):
         signal.signal(signal.SIGALRM, old)
 
 
-def run_cli(args: list[str], timeout_s: float = TIMEOUT_S) -> tuple[int, str, str]:
-    """cli.main(args) in this process: (exit code, stdout, stderr); a Hang past timeout_s."""
-    from .. import cli
-
+def run_cli(entry: Entry, args: list[str], timeout_s: float = TIMEOUT_S) -> tuple[int, str, str]:
+    """entry(args), the command line's entry point, in this process: (exit code, stdout, stderr);
+    a Hang past timeout_s."""
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), _time_limit(timeout_s):
         try:
-            rc = cli.main(args)
+            rc = entry(args)
         except SystemExit as exc:
             rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 2)
     return rc, out.getvalue(), err.getvalue()
@@ -202,13 +204,13 @@ def _partial(outputs: list[Path]) -> str | None:
     return f"exit 0 with a partial file {broken}" if broken else None
 
 
-def check_argv(args: list[str], folder: Path) -> str | None:
+def check_argv(entry: Entry, args: list[str], folder: Path) -> str | None:
     """Run a command line in `folder` (emptied first); why it failed, or None."""
     _empty(folder)
     cwd = os.getcwd()
     os.chdir(folder)
     try:
-        rc, _out, err = run_cli(args)
+        rc, _out, err = run_cli(entry, args)
     except Hang as exc:
         return f"hang: {exc}"
     except Exception as exc:  # noqa: BLE001 - a traceback is what the fuzz looks for
@@ -233,7 +235,7 @@ def _render_args(extra: list[str]) -> list[str]:
     return ["render", CHAR, "-o", "o.png", "--size", "16", "--samples", "1"] + extra
 
 
-def check_glyph(text: str, folder: Path, render: bool) -> str | None:
+def check_glyph(entry: Entry, text: str, folder: Path, render: bool) -> str | None:
     """A glyph file: loading it ends in a Glyph or a GlyphError; rendered through the CLI when
     `render` (a valid one then writes its image, a broken one one error line)."""
     from ..glyphs import GlyphError, load_glyph
@@ -243,11 +245,11 @@ def check_glyph(text: str, folder: Path, render: bool) -> str | None:
     path = folder / "g" / f"U+{ord(CHAR):04X}.json"
     path.write_text(text, encoding="utf-8")
     if render:
-        return check_argv(_render_args(["--source", f"glyphs:{folder / 'g'}"]), folder)
+        return check_argv(entry, _render_args(["--source", f"glyphs:{folder / 'g'}"]), folder)
     return _load_only(lambda: load_glyph(path), GlyphError)
 
 
-def check_style(text: str, folder: Path, render: bool) -> str | None:
+def check_style(entry: Entry, text: str, folder: Path, render: bool) -> str | None:
     """A style file: loading it ends in a Style or a StyleError; rendered when `render`."""
     from ..writing import Style, StyleError
 
@@ -255,7 +257,7 @@ def check_style(text: str, folder: Path, render: bool) -> str | None:
     path = folder / "style.json"
     path.write_text(text, encoding="utf-8")
     if render:
-        return check_argv(_render_args(["--style", str(path), "--source", "default"]), folder)
+        return check_argv(entry, _render_args(["--style", str(path), "--source", "default"]), folder)
     return _load_only(lambda: Style.load(str(path)), StyleError)
 
 
@@ -284,24 +286,26 @@ def _load_only(load: Callable, allowed: type) -> str | None:
 KINDS = ("glyph", "style", "svg", "argv")
 
 
-def _one(kind: str, rng: random.Random, folder: Path, render: bool) -> tuple[object, str | None]:
+def _one(entry: Entry, kind: str, rng: random.Random, folder: Path, render: bool) -> tuple[object, str | None]:
     """(the input, why it failed or None) for one input of `kind`."""
     if kind == "glyph":
         text = glyph_json(rng)
-        return text, check_glyph(text, folder, render)
+        return text, check_glyph(entry, text, folder, render)
     if kind == "style":
         text = style_json(rng)
-        return text, check_style(text, folder, render)
+        return text, check_style(entry, text, folder, render)
     if kind == "svg":
         d = svg_path(rng)
         return d, check_svg(d)
     args = argv(rng)
-    return args, check_argv(args, folder)
+    return args, check_argv(entry, args, folder)
 
 
-def run(n: int, seed: int = 0, render_every: int = 500, argv_share: float = 0.01, progress=None) -> dict:
-    """n inputs spread over KINDS (command lines, which may render, `argv_share` of them); per
-    kind: tried, failed, the first failing input and why."""
+def run(entry: Entry, n: int, seed: int = 0, render_every: int = 500, argv_share: float = 0.01,
+        progress=None) -> dict:
+    """n inputs spread over KINDS (command lines, which may render, `argv_share` of them), run
+    through the command line's entry point `entry` (argv -> exit code); per kind: tried, failed,
+    the first failing input and why."""
     rng = random.Random(seed)
     stats = {k: {"tried": 0, "failed": 0, "first_failure": None, "why": None} for k in KINDS}
     weights = [(1 - argv_share) / 3] * 3 + [argv_share]
@@ -309,7 +313,7 @@ def run(n: int, seed: int = 0, render_every: int = 500, argv_share: float = 0.01
     with tempfile.TemporaryDirectory(prefix="brushwork-fuzz-") as tmp:
         for i in range(n):
             kind = rng.choices(KINDS, weights)[0]
-            data, why = _one(kind, rng, Path(tmp), render=stats[kind]["tried"] % render_every == 0)
+            data, why = _one(entry, kind, rng, Path(tmp), render=stats[kind]["tried"] % render_every == 0)
             _count(stats[kind], data, why)
             if progress and (i + 1) % 10000 == 0:
                 progress(f"{i + 1}/{n} inputs, {time.perf_counter() - t0:.0f} s")
@@ -340,3 +344,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--render-every", type=int, default=500,
                    help="render one valid-or-broken glyph or style file through the CLI every this many (default 500)")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import progress, run_benchmark
+
+    if args.n < 1 or args.render_every < 1:
+        raise ValueError(f"--n {args.n} --render-every {args.render_every}: expected >= 1")
+    return run_benchmark("fuzz", args, lambda: run(args.entry, args.n, args.seed, args.render_every,
+                                                   progress=progress), table)

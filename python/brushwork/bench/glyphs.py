@@ -1,5 +1,5 @@
-"""Glyph benchmarks: how close the driver's ink comes to a source's stroke outlines (`bench glyphs`)
-and how many characters a second a batch renders (`bench batch`).
+"""Glyph benchmark: how close the driver's ink comes to a source's stroke outlines (`bench glyphs`),
+and a character's ink under solver settings (for `bench precision`).
 
 `bench glyphs --source mmah:PATH` renders every character of a Make Me a Hanzi source with the
 default kai style at 512 px, its em box filling the image as the data's SVG recipe draws it, and
@@ -7,23 +7,22 @@ scores the ink mask (coverage > 0.5) against the union of the stroke outlines by
 mean, the 10th percentile and the worst, lists the worst characters, and writes a contact sheet of
 overlays (black: ink inside the outline; red: ink outside it; pink: outline the ink missed) beside
 the same characters from a reference Kai font when one is installed.
-
-`bench batch` runs `brushwork batch` on a sample of GB2312 characters at 1024 px with two jobs and
-reports characters per second, then times one process's frames to say where the time goes.
 """
 from __future__ import annotations
 
+import argparse
 import os
-import tempfile
 import time
 
 import numpy as np
 
-from .. import batch as bt
 from ..glyphs import load_source
-from ..glyphs.score import (PARTS, corner_count, edge_figures, error_by_part, has_outlines, ink_beads, iou, pieces,
-                            stroke_masks)
-from ..writing import Style, Writer, writing_paper
+from ..glyphs.model import Glyph
+from ..glyphs.score import PARTS, corner_count, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..writing.fit import ink_widths
+from ..writing.style import family
+from ..pool import Progress, parallel_map
+from ..writing import Style, Writer, check_size, text_paper, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 
@@ -69,7 +68,7 @@ def _score(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         counts: dict = {}
-        paper = bt.text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], counts=counts)
+        paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], counts=counts)
         ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
         masks = stroke_masks(glyph, _JOB["size"])                  # one (size, size) bool per stroke
         ref = np.any(masks, axis=0)
@@ -85,6 +84,27 @@ def _score(task: tuple) -> tuple:
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
+
+
+BEAD_END = 0.15        # the last 15% of a stroke's median
+
+
+def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray]) -> dict:
+    """Beads counted on the ink: family -> [strokes whose last BEAD_END of the median is wider in
+    the ink than the ink's median width over the middle (s 0.25..0.75), strokes]. Widths are taken
+    across the median where no other stroke's outline covers it (a join or crossing is not a bead)."""
+    out: dict = {}
+    size = ink.shape[0]
+    for k, stroke in enumerate(glyph.strokes):
+        others = np.any([m for i, m in enumerate(masks) if i != k], axis=0) if len(masks) > 1 else np.zeros_like(ink)
+        s, width, covered = ink_widths(ink, stroke.points, size, others)
+        mid = width[(s >= 0.25) & (s <= 0.75) & ~covered]
+        end = width[(s >= 1.0 - BEAD_END) & ~covered]
+        tally = out.setdefault(family(stroke.kind), [0, 0])
+        tally[1] += 1
+        if len(mid) and len(end) and np.isfinite(mid).any():
+            tally[0] += int(np.nanmax(end, initial=0.0) > np.nanmedian(mid))
+    return out
 
 
 def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
@@ -103,7 +123,7 @@ def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
 def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
         jobs: int = 1, sheet: str | None = None, progress: bool = True) -> dict:
     """Score the driver against the outlines of `source` (every character, or the first `count`)."""
-    size = bt.check_size(size)
+    size = check_size(size)
     Style.load(style)
     errors: list = []
     glyphs = _scorable(source, count, errors)
@@ -141,7 +161,7 @@ def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list
     for glyph in glyphs:
         masks = []
         for k in (1, 2, 4):
-            ink = bt.text_paper([glyph], size * k, style, seed).ink().astype(np.float32)
+            ink = text_paper([glyph], size * k, style, seed).ink().astype(np.float32)
             masks.append(cv2.resize(ink, (size, size), interpolation=cv2.INTER_AREA) > 0.5)
         rows.append([glyph.char, iou(masks[1], masks[0]), iou(masks[2], masks[0])])
     return rows
@@ -163,9 +183,9 @@ def _scorable(source: str, count: int | None, errors: list) -> dict:
 
 def _scored(glyphs: dict, jobs: int, init: tuple, progress: bool):
     """_score over the glyphs in `jobs` workers, with a progress bar; results as they finish."""
-    bar = bt.Progress(len(glyphs)) if progress else None
+    bar = Progress(len(glyphs)) if progress else None
     try:
-        for item in bt.parallel_map(_score, list(glyphs.items()), jobs, _init, init):
+        for item in parallel_map(_score, list(glyphs.items()), jobs, _init, init):
             if bar is not None:
                 bar.update(item[-1] is None)
             yield item
@@ -193,7 +213,7 @@ def _summary(rows: dict, order: list) -> dict:
            for k in ("roughness", "perimeter_ratio", "extra_pieces")},
         "beads": _beads(rows, order), "solver": _solver(rows, order),
         # corners of the ink's outline beyond the outlines' own (glyphs.score.corner_count), mean a
-        # character, and beads counted on the ink (glyphs.score.ink_beads)
+        # character, and beads counted on the ink and on the outlines alike (glyphs.score.ink_beads)
         "excess_corners": float(np.mean([rows[c]["excess_corners"] for c in order])) if order else None,
         "ink_beads": _beads(rows, order, "ink_beads"), "outline_beads": _beads(rows, order, "outline_beads"),
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
@@ -299,85 +319,6 @@ def table(result: dict) -> str:
     return "\n".join(lines)
 
 
-# --- bench batch: throughput ---
-
-class _Timed:
-    """Wraps a bound method and adds its wall time to a counter."""
-
-    def __init__(self, fn, name: str, counters: dict):
-        self.fn, self.name, self.counters = fn, name, counters
-
-    def __call__(self, *a, **k):
-        t0 = time.perf_counter()
-        try:
-            return self.fn(*a, **k)
-        finally:
-            self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
-
-
-def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
-    """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
-    step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
-    st = Style.load(style)
-    counters: dict = {}
-    frames = 0
-    t0 = time.perf_counter()
-    paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
-    paper.deposit = _Timed(paper.deposit, "deposit", counters)
-    with tempfile.TemporaryDirectory() as tmp:
-        for k, glyph in enumerate(glyphs):
-            paper.clear()
-            writer = Writer(paper, st, k)
-            writer.brush.step = _Timed(writer.brush.step, "step", counters)
-            writer.write(glyph)
-            frames += writer.frames
-            ts = time.perf_counter()
-            paper.save(os.path.join(tmp, "g.png"))
-            counters["save"] = counters.get("save", 0.0) + time.perf_counter() - ts
-    total = time.perf_counter() - t0
-    counters["driver and the rest"] = total - sum(counters.values())
-    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
-
-
-def run_batch_bench(source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
-                    style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
-    """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
-    across the set (those the source has), then one process's time breakdown on a few of them."""
-    size = bt.check_size(size)
-    pool = bt.gb2312()
-    errors: list = []
-    have = load_source(source, pool, errors=errors)
-    if not have:
-        raise ValueError(f"{source}: none of GB2312's characters are in this source")
-    chars = list(have)
-    picked = [chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))]
-    text = "".join(dict.fromkeys(picked))
-    with tempfile.TemporaryDirectory() as tmp:
-        res = bt.run_batch(text, tmp, source=source, jobs=jobs, size=size, style=style, progress=progress,
-                           samples=samples)
-    parts = breakdown([have[c] for c in text[:4]], size, style, samples)
-    return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's",
-            "characters": len(res.written),
-            "failed": res.failed, "seconds": res.seconds, "chars_per_s": res.chars_per_s,
-            "gb2312_hours": len(bt.gb2312()) / res.chars_per_s / 3600.0 if res.chars_per_s else None,
-            "breakdown": parts}
-
-
-def batch_table(result: dict) -> str:
-    b = result["breakdown"]
-    lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
-             f"{result['jobs']} jobs, samples {result['samples']}: {result['chars_per_s']:.2f} characters/s "
-             f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
-             "",
-             f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",
-             "| part | s/char | share |", "|---|---|---|"]
-    for name, secs in sorted(b["parts"].items(), key=lambda kv: -kv[1]):
-        lines.append(f"| {name} | {secs / b['characters']:.3f} | {100 * secs / b['seconds']:.0f}% |")
-    for char, why in result["failed"]:
-        lines.append(f"failed {char}: {why}")
-    return "\n".join(lines)
-
-
 # --- the end of the pipeline for `bench precision`: a character's ink under solver settings ---
 
 REFERENCE_SOLVE = {"q_max": 100000, "tolerance": 1e-10}   # "no iteration cap", a tight KKT tolerance
@@ -417,3 +358,24 @@ class InkMaskIoU:
         if self._ref is None:
             self._ref = written_ink(self.glyph, REFERENCE_SOLVE, self.size)
         return iou(written_ink(self.glyph, overrides, self.size), self._ref)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--source", required=True, help="a source with stroke outlines: mmah:PATH")
+    p.add_argument("--size", type=int, default=512, help="px per character (default 512)")
+    p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--seed", type=int, default=0, help="seed of the style's variation (default 0)")
+    p.add_argument("--count", type=int, default=None, help="only the first N characters")
+    p.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="worker processes (default: CPU count)")
+    p.add_argument("--sheet", metavar="FILE", default="glyphs_sheet.png",
+                   help="contact sheet of overlays (default glyphs_sheet.png; '' for none)")
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import check_writable, run_benchmark
+
+    if args.sheet:
+        check_writable(args.sheet)
+    return run_benchmark("glyphs", args, lambda: run(args.source, args.size, args.count, args.style, args.seed,
+                                                     args.jobs, args.sheet or None), table)

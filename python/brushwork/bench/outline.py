@@ -203,3 +203,9 @@ def table(result: dict) -> str:
             f"(means; _min: the worst view); tolerance {result['tol']:.1%} of the image; orbit of "
             f"{result['orbit_views']} views; seconds per view, load once per mesh\n")
     return head + report.markdown_table(result["meshes"], cols)
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import progress, run_benchmark
+
+    return run_benchmark("outline", args, lambda: run(args, progress=progress), table)

@@ -13,6 +13,7 @@ deposit's time.
 """
 from __future__ import annotations
 
+import argparse
 import time
 
 import numpy as np
@@ -162,3 +163,21 @@ def table(result: dict) -> str:
     if "mesh" in result:
         text += "\n\nrender mesh: ink error against deposit time\n\n" + mesh_table(result["mesh"])
     return text
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--px", type=int, default=2048, help="canvas size in pixels (default 2048)")
+    p.add_argument("--frames", type=int, default=320, help="frames of the stroke (default 320)")
+    p.add_argument("--repeats", type=int, default=3, help="runs per scene, best kept (default 3)")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import progress, run_benchmark
+
+    def both() -> dict:
+        result = run(px=args.px, frames=args.frames, repeats=args.repeats, progress=progress)
+        result["mesh"] = mesh_sweep(frames=args.frames, repeats=args.repeats, progress=progress)
+        return result
+
+    return run_benchmark("render", args, both, table)

@@ -1,10 +1,12 @@
-"""Tiny report helpers for the benchmarks: Markdown tables and atomic JSON files."""
+"""Tiny report helpers for the benchmarks: Markdown tables, atomic JSON files, and the run of a
+benchmark command (check, run, print, write)."""
 from __future__ import annotations
 
 import json
 import math
 import os
-from typing import Any, Sequence
+import sys
+from typing import Any, Callable, Sequence
 
 from ..files import check_writable, write_atomic  # noqa: F401  (the benchmarks' JSON goes through them)
 
@@ -115,3 +117,28 @@ def write_json(path: str | os.PathLike, obj: Any) -> None:
             os.fsync(f.fileno())
 
     write_atomic(path, write, suffix=".json")
+
+
+def run_benchmark(name: str, args, run: Callable[[], dict], table: Callable[[dict], str]) -> int:
+    """Run a benchmark: fail on an unwritable --json target before the run, not after; print
+    its table; write its JSON. Returns the exit code."""
+    if args.json:
+        check_writable(args.json)
+    result = run()
+    print(table(result))
+    if args.json:
+        write_json(args.json, {"benchmark": name, **result})
+    return 0
+
+
+def progress(msg: str) -> None:
+    """A benchmark's progress line on stderr."""
+    print(f"  {msg}", file=sys.stderr)
+
+
+def check_preset(name: str) -> None:
+    """ValueError unless name is a brush preset."""
+    from .. import BrushModel
+
+    if name not in BrushModel.presets():
+        raise ValueError(f"unknown preset {name!r} (choose from {', '.join(BrushModel.presets())})")

@@ -9,6 +9,7 @@ per-frame timing (no Python), and the wall-clock figure includes the Python loop
 """
 from __future__ import annotations
 
+import argparse
 import math
 import time
 
@@ -129,3 +130,20 @@ def table(result: dict) -> str:
             ["tufts", "Hessian", "mean q (main)", "mean q (child)", "split", "frames/s (core)", "frames/s (wall)",
              "p95 µs"])
     return text
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--preset", default="medium", help="brush preset (default medium)")
+    p.add_argument("--frames", type=int, default=320, help="frames of the stroke (default 320)")
+    p.add_argument("--repeats", type=int, default=5, help="runs per mode, best kept (default 5)")
+    p.add_argument("--tufts", type=int, nargs="+", metavar="K",
+                   help="also time the brush split into K tufts (the seed's Table 1: 1 3 5)")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import check_preset, run_benchmark
+
+    check_preset(args.preset)
+    return run_benchmark("solver", args, lambda: run(preset=args.preset, frames=args.frames, repeats=args.repeats,
+                                                     tufts=args.tufts), table)

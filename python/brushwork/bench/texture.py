@@ -17,6 +17,7 @@ Three measures:
 """
 from __future__ import annotations
 
+import argparse
 import math
 from typing import Callable
 
@@ -94,7 +95,7 @@ def exit_region(glyph, style, size: int) -> np.ndarray:
 
 def character_texture(glyph, style, size: int, seed: int = 0) -> dict:
     """White fractions inside the strokes of one character: at the exits and over all."""
-    from ..writing.driver import render_glyph
+    from ..writing import render_glyph
 
     paper = render_glyph(glyph, size, style, seed)
     alpha = paper.ink()
@@ -235,3 +236,17 @@ def table(result: dict) -> str:
                                                      "white_fine", "ink_coarse", "ink_fine", "mean_abs_diff",
                                                      "blurred_corr"])]
     return "\n".join(parts)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--chars", default="永和九年", help="characters of the exits measure (default 永和九年)")
+    p.add_argument("--size", type=int, default=512, help="px per character, 64..2048 (default 512)")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import progress, run_benchmark
+
+    if not 64 <= args.size <= 2048 or not args.chars.strip():
+        raise ValueError(f"--size {args.size} --chars {args.chars!r}: expected 64..2048 px and some characters")
+    return run_benchmark("texture", args, lambda: run("".join(args.chars.split()), args.size, progress), table)

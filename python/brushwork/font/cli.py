@@ -36,7 +36,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 
 def handle(args: argparse.Namespace) -> int:
-    from ..batch import parse_charset, read_charset
+    from ..glyphs.charsets import parse_charset, read_charset
     from .make import build_font, summary
 
     chars = parse_charset(args.chars) if args.chars is not None else read_charset(args.charset)

@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..batch import Progress, parallel_map
+from ..pool import Progress, check_executor, parallel_map
 from ..files import write_atomic
-from ..writing import Style, check_size
+from ..writing import Style, check_size, text_paper
 from .build import FontInfo, check_font_path, write_font
 from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
 
@@ -96,8 +96,6 @@ def _init_worker(style: str, size: int, seed: int, tol: float) -> None:
 def _outline_one(task: tuple) -> tuple:
     """(char, Glyph, cache path) -> (char, CPU seconds, error text or None); the outline goes to
     the cache."""
-    from ..batch import text_paper
-
     char, glyph, out = task
     t0 = time.process_time()
     try:
@@ -151,8 +149,6 @@ def build_font(glyphs, path: str | os.PathLike, *, source: str = "default", styl
     render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px.
     Characters that fail are listed in the result and left out; the font is written when any
     glyph was made, atomically."""
-    from ..raymap import check_executor
-
     t0 = time.perf_counter()
     info = (info or FontInfo()).check()
     check_font_path(path)

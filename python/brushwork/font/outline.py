@@ -51,7 +51,7 @@ def outline_from_image(rgb: np.ndarray, em: Em, tol_px: float = FIT_TOL_PX) -> l
 
 def render_outline(glyph, em: Em, style="kai", seed: int = 0, samples: int | None = None) -> list:
     """The outline of `glyph` (a loaded Glyph) as the brush writes it in an em.size px render."""
-    from ..batch import text_paper
+    from ..writing import text_paper
 
     paper = text_paper([glyph], em.size, style, seed, samples)
     return outline_from_image(paper.image(), em)

@@ -1,5 +1,9 @@
-"""Named character sets: GB2312's hanzi, whole or by level, decoded through Python's gb2312 codec."""
+"""Character sets: GB2312's hanzi, whole or by level, decoded through Python's gb2312 codec, and
+charset files (the characters of a text, whitespace ignored)."""
 from __future__ import annotations
+
+import os
+from pathlib import Path
 
 # built-in charsets: name -> GB2312 level (None: both)
 CHARSETS = {"gb2312": None, "gb2312-1": 1, "gb2312-2": 2}
@@ -24,3 +28,23 @@ def named(name: str) -> str | None:
     """The characters of the built-in charset called name (any case), or None when none is."""
     key = name.lower()
     return gb2312(CHARSETS[key]) if key in CHARSETS else None
+
+
+def parse_charset(text: str) -> str:
+    """The characters of a charset: every non-space character, in order, duplicates dropped."""
+    return "".join(dict.fromkeys(c for c in text if not c.isspace()))
+
+
+def read_charset(path: str | os.PathLike) -> str:
+    """A charset file's characters; the names gb2312, gb2312-1 and gb2312-2 are built in."""
+    builtin = None if Path(path).exists() else named(str(path))
+    if builtin is not None:
+        return builtin
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except UnicodeDecodeError as err:
+        raise ValueError(f"{path}: not UTF-8 text: {err}") from None
+    chars = parse_charset(text)
+    if not chars:
+        raise ValueError(f"{path}: no characters in the charset file")
+    return chars

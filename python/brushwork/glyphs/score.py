@@ -1,7 +1,8 @@
 """Scoring a rendered glyph against its source's filled stroke outlines (Make Me a Hanzi keeps them).
 
 The reference mask is drawn the way the source's SVG recipe draws the outlines: the em box fills
-the image, so ink and outlines compare pixel for pixel. Filling goes through OpenCV.
+the image, so ink and outlines compare pixel for pixel. Filling goes through OpenCV. A bead at a
+stroke's end is measured here too, from the footprint's widths (the driver tallies it per family).
 """
 from __future__ import annotations
 
@@ -11,7 +12,6 @@ import cv2
 import numpy as np
 
 from .model import Glyph, GlyphError
-from ..writing.targets import beaded  # noqa: F401  (scored here as well)
 from .svgpath import parse_svg_path
 
 _SHIFT = 4  # cv2.fillPoly fixed-point bits: vertices placed to 1/16 px
@@ -46,6 +46,19 @@ def outline_mask(glyph: Glyph, size: int) -> np.ndarray:
     mapped onto the whole image (each stroke filled on its own: an even-odd fill of the union
     would punch holes where strokes overlap)."""
     return np.any(stroke_masks(glyph, size), axis=0)
+
+
+def beaded(widths_mm) -> bool:
+    """A bead at a stroke's end: the footprint's widths (mm, one a frame from the first touch to
+    the lift) dip over their last 30% and then grow to 1.6 times the dip and 0.4 mm over it (a
+    bulb after a neck, as a soft tip that folded is pressed down again)."""
+    low = np.inf
+    widths = np.asarray(widths_mm, dtype=float)
+    for w in widths[int(0.7 * len(widths)):]:
+        low = min(low, w)
+        if w >= 1.6 * low and w >= low + 0.4:
+            return True
+    return False
 
 
 # the parts of a stroke, by arc length along its median: head, body, end
@@ -200,26 +213,3 @@ def corner_count(mask: np.ndarray) -> int:
         n += int((sharp & ~np.roll(sharp, 1)).sum())     # runs around the closed contour
     return n
 
-
-BEAD_END = 0.15        # the last 15% of a stroke's median
-
-
-def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray]) -> dict:
-    """Beads counted on the ink: family -> [strokes whose last BEAD_END of the median is wider in
-    the ink than the ink's median width over the middle (s 0.25..0.75), strokes]. Widths are taken
-    across the median where no other stroke's outline covers it (a join or crossing is not a bead)."""
-    from ..writing.fit import ink_widths
-    from ..writing.style import family
-
-    out: dict = {}
-    size = ink.shape[0]
-    for k, stroke in enumerate(glyph.strokes):
-        others = np.any([m for i, m in enumerate(masks) if i != k], axis=0) if len(masks) > 1 else np.zeros_like(ink)
-        s, width, covered = ink_widths(ink, stroke.points, size, others)
-        mid = width[(s >= 0.25) & (s <= 0.75) & ~covered]
-        end = width[(s >= 1.0 - BEAD_END) & ~covered]
-        tally = out.setdefault(family(stroke.kind), [0, 0])
-        tally[1] += 1
-        if len(mid) and len(end) and np.isfinite(mid).any():
-            tally[0] += int(np.nanmax(end, initial=0.0) > np.nanmedian(mid))
-    return out

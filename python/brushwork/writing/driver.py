@@ -23,11 +23,11 @@ import math
 import numpy as np
 
 from ..brush import Brush, Pose
+from ..glyphs.score import beaded
 from ..paper import Paper
 from ..recorded import root_height
-from ..scene import Scene
 from .style import Style, family
-from .targets import _centroid_and_width, beaded, stroke_targets
+from .targets import _centroid_and_width, joins, stroke_targets
 
 # the driver's constants (L: the tuft length)
 PRESS_MAX = 0.45          # L: deepest press the width loop may ask for
@@ -346,24 +346,6 @@ class Writer:
             self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))
 
 
-def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
-    """Whether stroke k's start and end lie on another stroke: within `near_mm` of another
-    centreline of `medians` (a list of (m, 2) mm polylines), as where a stroke hangs from a
-    crossbar or closes a box, the font's outlines touching there."""
-    others = [m for i, m in enumerate(medians) if i != k]
-    return tuple(any(_distance_to_polyline(p, m) < near_mm for m in others) for p in (medians[k][0], medians[k][-1]))
-
-
-def _distance_to_polyline(p: np.ndarray, line: np.ndarray) -> float:
-    """mm from the point p (2,) to the polyline `line` (m, 2) mm."""
-    if len(line) == 1:
-        return float(np.hypot(*(p - line[0])))
-    a, b = line[:-1], line[1:]
-    ab = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
-    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))
-
-
 class _Aim:
     """One stroke's aim points: path (n, 2) mm at arc lengths s (n,) mm, target widths (n,) mm.
     The footprint must not reach past the stroke's ends by more than the style's reach (mm; half
@@ -498,44 +480,3 @@ class _Plan:
         root = self.root[:m] + st.plan_position_gain * ramp[:, None] * _lowpass(pos, sigma)
         press = np.clip(self.press[:m] + st.plan_press_gain * ramp * _lowpass(rel, sigma), 0.0, PRESS_MAX)
         return _Plan(root, press)
-
-
-MAX_SIDE = 32768     # px: the paper's largest side
-
-
-def check_size(size: int) -> int:
-    """px per character: 16..8192."""
-    size = int(size)
-    if not 16 <= size <= 8192:
-        raise ValueError(f"size {size} px: expected 16..8192 px")
-    return size
-
-
-def check_samples(samples: int | None) -> int | None:
-    """Multisampling of the stroke layer: None (the style's) or 1, 2, 4, 8."""
-    if samples is not None and samples not in (1, 2, 4, 8):
-        raise ValueError(f"samples {samples}: expected 1, 2, 4 or 8")
-    return samples
-
-
-def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None) -> Paper:
-    """A paper for `chars` characters in a row, each em box a size x size px square, with the
-    style's scene; `samples` overrides its multisampling (1 is ~2.5x faster on a software
-    renderer, its edges stepped at the pixel)."""
-    size, samples = check_size(size), check_samples(samples)
-    if chars < 1:
-        raise ValueError("no characters to render")
-    if chars * size > MAX_SIDE:
-        raise ValueError(f"{chars} characters x {size} px = {chars * size} px wide: more than {MAX_SIDE}; "
-                         "use a smaller size or `brushwork batch`")
-    scene = dict(style.scene, **({"samples": samples} if samples else {}))
-    return Paper(chars * style.em_mm, style.em_mm, size / style.em_mm, scene=Scene(**scene))
-
-
-def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0) -> Paper:
-    """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
-    lands where its SVG recipe draws the outlines), with the glyph written on it."""
-    st = style if isinstance(style, Style) else Style.load(style)
-    paper = writing_paper(st, size)
-    Writer(paper, st, seed).write(glyph)
-    return paper

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .driver import joins
+from .targets import joins
 from .fit import FRAME_SPEED, GESTURES, controls_count
 from .plan import CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
 from .style import PROFILE_FAMILIES, Style, family

@@ -64,14 +64,19 @@ def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
     return path, s, heading, width
 
 
-def beaded(widths_mm) -> bool:
-    """A bead at a stroke's end: the footprint's widths (mm, one a frame from the first touch to
-    the lift) dip over their last 30% and then grow to 1.6 times the dip and 0.4 mm over it (a
-    bulb after a neck, as a soft tip that folded is pressed down again)."""
-    low = np.inf
-    widths = np.asarray(widths_mm, dtype=float)
-    for w in widths[int(0.7 * len(widths)):]:
-        low = min(low, w)
-        if w >= 1.6 * low and w >= low + 0.4:
-            return True
-    return False
+def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
+    """Whether stroke k's start and end lie on another stroke: within `near_mm` of another
+    centreline of `medians` (a list of (m, 2) mm polylines), as where a stroke hangs from a
+    crossbar or closes a box, the font's outlines touching there."""
+    others = [m for i, m in enumerate(medians) if i != k]
+    return tuple(any(_distance_to_polyline(p, m) < near_mm for m in others) for p in (medians[k][0], medians[k][-1]))
+
+
+def _distance_to_polyline(p: np.ndarray, line: np.ndarray) -> float:
+    """mm from the point p (2,) to the polyline `line` (m, 2) mm."""
+    if len(line) == 1:
+        return float(np.hypot(*(p - line[0])))
+    a, b = line[:-1], line[1:]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))

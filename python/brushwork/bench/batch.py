@@ -1,0 +1,145 @@
+"""`brushwork bench batch`: characters per second of `brushwork batch` as a user runs it, on a
+sample of GB2312 characters spread evenly across the set (those the source has), at 1024 px with
+two jobs; then one process's frames timed to say where the time goes.
+
+The batch runs through the command line's entry point, which the caller hands in (`args.entry`):
+the benchmark measures the command, not a copy of it."""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+
+from ..glyphs import load_source
+from ..glyphs.charsets import gb2312
+from ..writing import Style, Writer, check_samples, check_size, writing_paper
+
+Entry = Callable[[list], int]
+
+
+class _Timed:
+    """Wraps a bound method and adds its wall time to a counter."""
+
+    def __init__(self, fn, name: str, counters: dict):
+        self.fn, self.name, self.counters = fn, name, counters
+
+    def __call__(self, *a, **k):
+        t0 = time.perf_counter()
+        try:
+            return self.fn(*a, **k)
+        finally:
+            self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
+
+
+def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
+    """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
+    step (the solver), in the paper's deposit (GL), in the driver's own Python, and in PNG saving."""
+    st = Style.load(style)
+    counters: dict = {}
+    frames = 0
+    t0 = time.perf_counter()
+    paper = writing_paper(st, size, samples=samples)   # one paper, cleared for each, as in a batch
+    paper.deposit = _Timed(paper.deposit, "deposit", counters)
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, glyph in enumerate(glyphs):
+            paper.clear()
+            writer = Writer(paper, st, k)
+            writer.brush.step = _Timed(writer.brush.step, "step", counters)
+            writer.write(glyph)
+            frames += writer.frames
+            ts = time.perf_counter()
+            paper.save(os.path.join(tmp, "g.png"))
+            counters["save"] = counters.get("save", 0.0) + time.perf_counter() - ts
+    total = time.perf_counter() - t0
+    counters["driver and the rest"] = total - sum(counters.values())
+    return {"characters": len(glyphs), "frames": frames, "seconds": total, "parts": counters}
+
+
+def _failures(folder: Path) -> list:
+    """(char, why) for each line of the batch's failed.txt: `failed C (U+XXXX): why`."""
+    path = folder / "failed.txt"
+    lines = path.read_text(encoding="utf-8").splitlines() if path.is_file() else []
+    return [(ln[len("failed "):].partition(" ")[0], ln.partition("): ")[2]) for ln in lines]
+
+
+def time_batch(entry: Entry, text: str, options: list) -> dict:
+    """Run `brushwork batch --chars text` with `options` into a new folder through `entry`: the
+    characters written, the failures, the seconds of the whole command."""
+    with tempfile.TemporaryDirectory() as tmp:
+        t0 = time.perf_counter()
+        with contextlib.redirect_stdout(io.StringIO()):
+            rc = entry(["batch", "--chars", text, "--out", tmp] + options)
+        seconds = time.perf_counter() - t0
+        written = len(list(Path(tmp).glob("U+*.png")))
+        failed = _failures(Path(tmp))
+    if rc not in (0, 2) or (rc == 2 and not failed):
+        raise ValueError(f"`brushwork batch` exited {rc} before rendering")
+    return {"characters": written, "failed": failed, "seconds": seconds,
+            "chars_per_s": written / seconds if seconds > 0 else 0.0}
+
+
+def run(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
+        style: str = "kai", progress: bool = True, samples: int | None = None) -> dict:
+    """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
+    across the set (those the source has), then one process's time breakdown on a few of them."""
+    size, samples = check_size(size), check_samples(samples)
+    Style.load(style)
+    pool = gb2312()
+    errors: list = []
+    have = load_source(source, pool, errors=errors)
+    if not have:
+        raise ValueError(f"{source}: none of GB2312's characters are in this source")
+    chars = list(have)
+    picked = [chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))]
+    text = "".join(dict.fromkeys(picked))
+    options = ["--source", source, "--jobs", str(jobs), "--size", str(size), "--style", style]
+    options += (["--samples", str(samples)] if samples else []) + ([] if progress else ["--no-progress"])
+    res = time_batch(entry, text, options)
+    parts = breakdown([have[c] for c in text[:4]], size, style, samples)
+    return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's", **res,
+            "gb2312_hours": len(pool) / res["chars_per_s"] / 3600.0 if res["chars_per_s"] else None,
+            "breakdown": parts}
+
+
+def table(result: dict) -> str:
+    b = result["breakdown"]
+    lines = [f"bench batch: {result['characters']} characters of {result['source']} at {result['size']} px, "
+             f"{result['jobs']} jobs, samples {result['samples']}: {result['chars_per_s']:.2f} characters/s "
+             f"(GB2312's 6,763 in {result['gb2312_hours'] * 60:.0f} min)",
+             "",
+             f"one process, {b['characters']} characters, {b['frames']} frames, {b['seconds']:.2f} s:",
+             "| part | s/char | share |", "|---|---|---|"]
+    for name, secs in sorted(b["parts"].items(), key=lambda kv: -kv[1]):
+        lines.append(f"| {name} | {secs / b['characters']:.3f} | {100 * secs / b['seconds']:.0f}% |")
+    for char, why in result["failed"]:
+        lines.append(f"failed {char}: {why}")
+    return "\n".join(lines)
+
+
+def add_arguments(p: argparse.ArgumentParser) -> None:
+    from ..commands.options import SOURCE_HELP
+
+    p.add_argument("--source", default="default", help=SOURCE_HELP)
+    p.add_argument("--count", type=int, default=200,
+                   help="characters, spread over GB2312 (default 200: a sample of the set's mix of simple and "
+                        "busy characters, long enough that the workers' start-up weighs as little as in a real batch)")
+    p.add_argument("--size", type=int, default=1024, help="px per character (default 1024)")
+    p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
+    p.add_argument("--style", default="kai", help="writing style (default kai)")
+    p.add_argument("--samples", type=int, default=None, help="multisampling: 1, 2, 4 or 8 (default: the style's)")
+    p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+
+
+def handle(args: argparse.Namespace) -> int:
+    from .report import run_benchmark
+
+    check_samples(args.samples)
+    return run_benchmark("batch", args, lambda: run(args.entry, args.source, args.count, args.size, args.jobs,
+                                                    args.style, samples=args.samples), table)
