@@ -34,12 +34,12 @@ _JOB: dict = {}
 
 
 def _init_worker(style_name: str, size: int, seed: int, bits: int, background: str, samples: int | None,
-                 ink: str = "gl") -> None:
+                 ink: str = "gl", plans: str | None = None) -> None:
     # a paper kept from an earlier batch in this process (--jobs 1 runs here) has that batch's
     # size and scene: drop it
     _JOB.clear()
     _JOB.update(style=Style.load(style_name), size=size, seed=seed, bits=bits, background=background,
-                samples=samples, ink=ink)
+                samples=samples, ink=ink, plans=plans)
 
 
 def _render_one(task: tuple) -> tuple:
@@ -49,7 +49,7 @@ def _render_one(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], _JOB["samples"],
-                           paper=_JOB.get("paper"), ink=_JOB["ink"])
+                           paper=_JOB.get("paper"), ink=_JOB["ink"], plans=_JOB.get("plans"))
         _JOB["paper"] = paper
         save_paper(paper, out, bits=_JOB["bits"], background=_JOB["background"])
     except Exception as err:     # reported at the end with the character; the batch goes on
@@ -76,7 +76,7 @@ class BatchResult:
 def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", jobs: int = 1,
               size: int = 1024, style: str = "kai", seed: int = 0, bits: int = 8, background: str = "white",
               progress: bool = True, variant: str | None = None, samples: int | None = None,
-              executor: str = "local", ink: str = "gl") -> BatchResult:
+              executor: str = "local", ink: str = "gl", plans: str | None = None) -> BatchResult:
     """Render each character of `chars` to out_dir/U+XXXX.png, skipping those already there
     (whole: a file that does not decode is rendered again), in local worker processes or on Ray."""
     check_executor(executor)
@@ -93,7 +93,9 @@ def run_batch(chars: str, out_dir: str | os.PathLike, source: str = "default", j
     result.failed += [(getattr(e, "char", None) or "?", str(e)) for e in errors]
     result.unknown = sum(bool(getattr(e, "unknown", False)) for e in errors)
     tasks = [(c, glyphs[c], str(out / output_name(c))) for c in todo if c in glyphs]
-    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples, ink), result, progress, executor)
+    if plans is not None and not os.path.isdir(plans):
+        raise ValueError(f"--plans {plans}: not a folder")
+    _run_tasks(tasks, jobs, (style, size, seed, bits, background, samples, ink, plans), result, progress, executor)
     return result
 
 

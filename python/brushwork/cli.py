@@ -1,7 +1,9 @@
 """The `brushwork` command line: rendering characters, benchmarks and the demo.
 
-    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE]
-    brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE]
+    brushwork render TEXT -o FILE [--size N] [--style S] [--source SPEC] [--seed N] [--bits 8|16] [--transparent] [--stats FILE] [--plans DIR]
+    brushwork batch --chars TEXT | --charset FILE --out DIR [--jobs N] [--size N] [--source SPEC] [--sheet FILE] [--plans DIR]
+    brushwork fit --chars TEXT | --charset FILE --source mmah:PATH --out DIR [--style S] [--jobs N] [--executor local|ray]
+    brushwork learn --plans DIR --source mmah:PATH -o HAND.json [--style S]
     brushwork font --chars TEXT | --charset FILE -o OUT.{otf,ttf,woff2,ufo} [--style S] [--jobs N] [--executor local|ray]
     brushwork bench glyphs [--source mmah:PATH] [--size 512] [--count N] [--jobs N] [--sheet FILE] [--json FILE]
     brushwork bench batch [--source SPEC] [--count 200] [--size 1024] [--jobs 2] [--json FILE]
@@ -85,6 +87,10 @@ COMMANDS: dict[str, Command] = {
     "render": Command("write characters with the brush on one image (PNG, JPEG, TIFF, BMP or WebP)",
                       "commands.render"),
     "batch": Command("render many characters, one PNG each, in parallel; resumable", "commands.batch"),
+    "fit": Command("fit each character's stroke plans to its outlines (mmah: sources); resumable", "plans",
+                   "fit_arguments", "fit_handle"),
+    "learn": Command("learn a hand (a style's plans from medians alone) from fitted plans", "plans",
+                     "learn_arguments", "learn_handle"),
     "font": Command("build an OTF, TTF, WOFF2 or UFO font of characters written by the brush; resumable", "font.cli"),
     "bench": Command("run a benchmark", "cli", "_bench_args", handle=""),     # each benchmark sets its own
     "demo": Command("draw the demo", "commands.demo"),

@@ -18,8 +18,11 @@ import time
 import numpy as np
 
 from ..glyphs import load_source
+from ..glyphs.model import Glyph
 from ..glyphs.sources import outlines_path
-from ..glyphs.score import PARTS, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..glyphs.score import PARTS, corner_count, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..writing.fit import ink_widths
+from ..writing.style import family
 from ..pool import Progress, parallel_map
 from ..writing import Style, Writer, check_size, text_paper, writing_paper
 
@@ -77,10 +80,33 @@ def _score(task: tuple) -> tuple:
         scores = {"iou": iou(ink, ref), "round_pen_iou": iou(pen, ref), "extra_pieces": extra, "specks": specks,
                   "error_by_part": error_by_part(glyph, ink, masks), "broken_strokes": counts["breaks"],
                   "frames": counts["frames"], "held_frames": counts["holds"], "beads": counts["beads"],
-                  "solver": counts["solver"], **_edges(ink, ref, pen)}
+                  "solver": counts["solver"], "excess_corners": corner_count(ink) - corner_count(ref),
+                  "ink_beads": ink_beads(glyph, ink, masks), "outline_beads": ink_beads(glyph, ref, masks),
+                  **_edges(ink, ref, pen)}
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
+
+
+BEAD_END = 0.15        # the last 15% of a stroke's median
+
+
+def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray]) -> dict:
+    """Beads counted on the ink: family -> [strokes whose last BEAD_END of the median is wider in
+    the ink than the ink's median width over the middle (s 0.25..0.75), strokes]. Widths are taken
+    across the median where no other stroke's outline covers it (a join or crossing is not a bead)."""
+    out: dict = {}
+    size = ink.shape[0]
+    for k, stroke in enumerate(glyph.strokes):
+        others = np.any([m for i, m in enumerate(masks) if i != k], axis=0) if len(masks) > 1 else np.zeros_like(ink)
+        s, width, covered = ink_widths(ink, stroke.points, size, others)
+        mid = width[(s >= 0.25) & (s <= 0.75) & ~covered]
+        end = width[(s >= 1.0 - BEAD_END) & ~covered]
+        tally = out.setdefault(family(stroke.kind), [0, 0])
+        tally[1] += 1
+        if len(mid) and len(end) and np.isfinite(mid).any():
+            tally[0] += int(np.nanmax(end, initial=0.0) > np.nanmedian(mid))
+    return out
 
 
 def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
@@ -188,6 +214,10 @@ def _summary(rows: dict, order: list) -> dict:
         **{f"{who}{k}": _pooled(rows, order, who + k) for who in ("", "round_pen_")
            for k in ("roughness", "perimeter_ratio", "extra_pieces")},
         "beads": _beads(rows, order), "solver": _solver(rows, order),
+        # corners of the ink's outline beyond the outlines' own (glyphs.score.corner_count), mean a
+        # character, and beads counted on the ink and on the outlines alike (glyphs.score.ink_beads)
+        "excess_corners": float(np.mean([rows[c]["excess_corners"] for c in order])) if order else None,
+        "ink_beads": _beads(rows, order, "ink_beads"), "outline_beads": _beads(rows, order, "outline_beads"),
         # gaps and stray dots: ink pieces beyond the outlines' count, and specks (glyphs.score.pieces)
         "extra_pieces": _total(rows, order, "extra_pieces"),
         "chars_with_extra_pieces": [c for c in order if rows[c]["extra_pieces"] > 0],
@@ -213,11 +243,11 @@ def _pooled(rows: dict, order: list, key: str):
     return float(np.median(values) if key.endswith("ratio") else np.mean(values))
 
 
-def _beads(rows: dict, order: list) -> dict:
+def _beads(rows: dict, order: list, key: str = "beads") -> dict:
     """Stroke family -> [strokes ending in a bead, strokes], over the characters."""
     out: dict = {}
     for c in order:
-        for fam, (n_bead, n) in rows[c]["beads"].items():
+        for fam, (n_bead, n) in rows[c][key].items():
             tally = out.setdefault(fam, [0, 0])
             tally[0] += n_bead
             tally[1] += n
@@ -259,7 +289,13 @@ def table(result: dict) -> str:
              f"| perimeter ratio (ink / outlines), median | {result['perimeter_ratio']:.3f} "
              f"| {result['round_pen_perimeter_ratio']:.3f} |",
              f"| ink pieces beyond the outlines' own | {result['extra_pieces']} | {result['round_pen_extra_pieces']} |",
+             f"| excess corners (turns of > 45 deg within +-8 px of the contour, ink's minus the outlines'), "
+             f"mean a character | {result['excess_corners']:.1f} | |",
              "",
+             "beads on the ink (a stroke's last 15% wider than its middle, away from other strokes): "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["ink_beads"].items())
+             + " (the outlines themselves, counted alike: "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["outline_beads"].items()) + ")",
              "beads at exits (strokes whose footprint necks and swells again at the end): "
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items()),
              f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "

@@ -5,7 +5,7 @@ import argparse
 import os
 import sys
 
-from .options import image_arguments, look_arguments, plural
+from .options import image_arguments, look_arguments, plans_argument, plural
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -19,6 +19,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
                                                    "beside a reference Kai font when one is installed")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    plans_argument(p)
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
                                                        "RAY_ADDRESS, else a local one; the ray extra)")
     look_arguments(p)
@@ -49,7 +50,7 @@ def handle(args: argparse.Namespace) -> int:
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples, executor=args.executor,
-                          ink=args.ink or "gl")
+                          ink=args.ink or "gl", plans=args.plans)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:

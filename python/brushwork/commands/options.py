@@ -34,6 +34,11 @@ def image_arguments(p: argparse.ArgumentParser) -> None:
                         "soaked tip or a colour ramp)")
 
 
+def plans_argument(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--plans", metavar="DIR", help="write each character from its plan file in DIR (brushwork fit), "
+                                                  "drawn in the source's em box")
+
+
 def plural(n: int, noun: str) -> str:
     return f"{n} {noun}" if n == 1 else f"{n} {noun}s"
 

@@ -7,7 +7,7 @@ import time
 
 from ..files import check_bits
 from ..writing import MAX_SIDE, check_samples, check_seed, check_size
-from .options import image_arguments, load_glyphs, look_arguments, plural
+from .options import image_arguments, load_glyphs, look_arguments, plans_argument, plural
 
 MAX_TEXT_CHARS = 256     # characters `brushwork render` writes on one image (a batch takes any number)
 
@@ -43,6 +43,7 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                         "or the ink's outlines as .svg or .pdf")
     look_arguments(p)
     image_arguments(p)
+    plans_argument(p)
     p.add_argument("--stats", metavar="FILE", help="also write the writing's figures as JSON to FILE: frames, "
                                                    "solver steps at the iteration cap q_max, sub-steps, deepest "
                                                    "penetration (mm), beads at exits by stroke family")
@@ -75,7 +76,8 @@ def handle(args: argparse.Namespace) -> int:
     glyphs = load_glyphs(args.source, "".join(dict.fromkeys(chars)))
     t0 = time.perf_counter()
     counts: dict = {}
-    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=ink)
+    paper = text_paper([glyphs[c] for c in chars], args.size, style, args.seed, args.samples, counts, ink=ink,
+                       plans=args.plans)
     if vectors:
         path = write_vectors(paper, args.output)
     else:

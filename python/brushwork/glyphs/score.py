@@ -187,3 +187,29 @@ def edge_figures(mask: np.ndarray, sigma: float = EDGE_SIGMA_PX) -> tuple[float,
         return 0.0, 0.0
     dist = sum(float(np.hypot(*(c - _smooth_closed(c, sigma)).T).sum()) for c in loops)
     return dist / length, length
+
+
+# corners: a turn of more than CORNER_TURN_DEG within +-CORNER_CHORD_PX along a contour
+CORNER_CHORD_PX = 8
+CORNER_TURN_DEG = 45.0
+
+
+def corner_count(mask: np.ndarray) -> int:
+    """Corners of a bool mask's outlines: on each contour (resampled every px), the runs of points
+    where the chords CORNER_CHORD_PX back and ahead meet at less than 180 - CORNER_TURN_DEG deg.
+    A hexagonal head, a notch, a frame step or a bead's neck each count; a smooth curve does not."""
+    k = CORNER_CHORD_PX
+    cos_max = math.cos(math.radians(180.0 - CORNER_TURN_DEG))
+    n = 0
+    for c in contours(mask):
+        if len(c) <= 2 * k:
+            continue
+        back, ahead = np.roll(c, k, axis=0) - c, np.roll(c, -k, axis=0) - c
+        cos = (back * ahead).sum(axis=1) / np.maximum(np.hypot(*back.T) * np.hypot(*ahead.T), 1e-9)
+        sharp = cos > cos_max                       # the chords meet at less than 135 deg
+        if sharp.all():
+            n += 1
+            continue
+        n += int((sharp & ~np.roll(sharp, 1)).sum())     # runs around the closed contour
+    return n
+

@@ -27,7 +27,7 @@ from ..glyphs.score import beaded
 from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
 from .style import Style, family
-from .targets import _centroid_and_width, stroke_targets
+from .targets import _centroid_and_width, joins, stroke_targets
 
 # the driver's constants (L: the tuft length)
 PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
@@ -317,12 +317,26 @@ class Writer:
             self.paper.deposit(self.brush)
             self.frames += 1
 
+    def write_planned(self, glyph, plan, origin_mm=(0.0, 0.0)) -> None:
+        """The glyph written open-loop from its GlyphPlan (writing/plan.py), in the source's em box
+        with its bottom-left corner at `origin_mm`."""
+        from .planned import PlanWriter
+
+        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm)
+        writer.write(glyph, plan)
+        self.frames += writer.frames
+
     def write(self, glyph, origin_mm=(0.0, 0.0), on_stroke=None) -> None:
         """glyph's strokes in order with the em box's corner at origin_mm; on_stroke(k), when
         given, is called once stroke k is written and the brush has left the paper (on its way
         to the next stroke's start, or at the end): the font's weight masters take each stroke's
         ink from the paper there."""
         st = self.style
+        if st.hand is not None:           # a learned hand: the plans from the medians alone
+            from .hand import Hand
+
+            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st), origin_mm)
+            return
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)
         self.density = st.density(len(glyph.strokes))
@@ -337,24 +351,6 @@ class Writer:
             self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))
         if on_stroke is not None and glyph.strokes:
             on_stroke(len(glyph.strokes) - 1)
-
-
-def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
-    """Whether stroke k's start and end lie on another stroke: within `near_mm` of another
-    centreline of `medians` (a list of (m, 2) mm polylines), as where a stroke hangs from a
-    crossbar or closes a box, the font's outlines touching there."""
-    others = [m for i, m in enumerate(medians) if i != k]
-    return tuple(any(_distance_to_polyline(p, m) < near_mm for m in others) for p in (medians[k][0], medians[k][-1]))
-
-
-def _distance_to_polyline(p: np.ndarray, line: np.ndarray) -> float:
-    """mm from the point p (2,) to the polyline `line` (m, 2) mm."""
-    if len(line) == 1:
-        return float(np.hypot(*(p - line[0])))
-    a, b = line[:-1], line[1:]
-    ab = b - a
-    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
-    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))
 
 
 class _Aim:

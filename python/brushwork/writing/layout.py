@@ -6,6 +6,7 @@ from __future__ import annotations
 from ..paper import Paper, make_paper
 from ..scene import Scene
 from .driver import Writer
+from .plan import load_plan
 from .style import Style
 
 MAX_SIDE = 32768     # px: the paper's largest side
@@ -55,7 +56,7 @@ def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None =
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
                samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
-               ink: str = "gl") -> Paper:
+               ink: str = "gl", plans=None) -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
@@ -76,7 +77,10 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
         paper.clear()
     writer = Writer(paper, st, seed)
     for k, glyph in enumerate(glyphs):
-        writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
+        if plans is not None:       # a folder of plan files (brushwork fit): written in the source's em box
+            writer.write_planned(glyph, load_plan(plans, glyph.char, len(glyph.strokes)), (k * st.em_mm, 0.0))
+        else:
+            writer.write(glyph, origin_mm=(k * st.em_mm, 0.0))
     if counts is not None:
         counts.update(frames=writer.frames, breaks=writer.breaks, holds=writer.holds, beads=writer.beads,
                       solver=writer.solver)

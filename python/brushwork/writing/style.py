@@ -101,6 +101,8 @@ FIELDS: tuple[StyleField, ...] = (
     _F("plan_position_gain", "float", "-", 0.0, 2.0, 0.7, "fraction of the footprint's position error corrected a pass"),
     _F("plan_press_gain", "float", "L", 0.0, 1.0, 0.1, "press change a pass per unit of relative width error"),
     _F("offset_em", "pair", "em", -0.5, 0.5, (0.0, 0.0), "(x, y) added to every centreline point"),
+    _F("hand", "file?", "-", None, None, None,
+       "a learned hand (brushwork learn): its file, beside the style's; strokes are then written from its plans"),
     _F("profiles", "profiles", "-", None, None, None,
        "family (plain tapered flared rising dot hook) -> [[s 0..1, width factor], ...]", required=True),
 )
@@ -186,11 +188,15 @@ def _check_map(f: StyleField, value) -> str | None:
     return next((f"{k}: {w}" for k, w in ((k, _check_number(f, v)) for k, v in value.items()) if w), None)
 
 
+def _check_file(f: StyleField, value) -> str | None:
+    return None if isinstance(value, str) and value else "a file name or null"
+
+
 def _why(f: StyleField, value) -> str | None:
     """Why `value` does not fit field f (what is expected), or None when it does."""
-    if f.kind == "float?" and value is None:
+    if f.kind in ("float?", "file?") and value is None:
         return None
-    checks = {"str": _check_str, "pair": _check_pair, "map": _check_map,
+    checks = {"str": _check_str, "pair": _check_pair, "map": _check_map, "file?": _check_file,
               "scene": lambda _, v: _check_scene(v), "profiles": lambda _, v: _check_profiles(v)}
     return checks.get(f.kind, _check_number)(f, value)
 
@@ -244,6 +250,11 @@ class _StyleMethods:
         """A style by name (kai, xing) or from a JSON file; StyleError for a bad one."""
         return cls(**read_style(name_or_path, STYLE_DIR))
 
+    def hand_path(self) -> Path:
+        """The hand file: `hand` as given when absolute, else beside the style files."""
+        path = Path(self.hand)
+        return path if path.is_absolute() else STYLE_DIR / path
+
     def density(self, strokes: int) -> float:
         """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
         return float(np.clip(1.0 - self.density_gain * (strokes - self.density_strokes), 0.7, 1.3))
@@ -278,7 +289,7 @@ def _dataclass_field(f: StyleField):
     return field(default=f.default)
 
 
-_TYPES = {"str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "map": dict,
+_TYPES = {"file?": "str | None", "str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "map": dict,
           "scene": dict, "profiles": dict}
 
 

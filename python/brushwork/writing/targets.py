@@ -62,3 +62,21 @@ def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
     if family(kind) in ("plain", "hook"):
         width *= 1.0 + style.direction_gain * (2.0 * np.abs(np.sin(heading)) - 1.0)
     return path, s, heading, width
+
+
+def joins(medians: list, k: int, near_mm: float) -> tuple[bool, bool]:
+    """Whether stroke k's start and end lie on another stroke: within `near_mm` of another
+    centreline of `medians` (a list of (m, 2) mm polylines), as where a stroke hangs from a
+    crossbar or closes a box, the font's outlines touching there."""
+    others = [m for i, m in enumerate(medians) if i != k]
+    return tuple(any(_distance_to_polyline(p, m) < near_mm for m in others) for p in (medians[k][0], medians[k][-1]))
+
+
+def _distance_to_polyline(p: np.ndarray, line: np.ndarray) -> float:
+    """mm from the point p (2,) to the polyline `line` (m, 2) mm."""
+    if len(line) == 1:
+        return float(np.hypot(*(p - line[0])))
+    a, b = line[:-1], line[1:]
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-12), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))

@@ -1,0 +1,155 @@
+"""A hand learned from fitted plans: for each stroke family, the plan to use as a function of the
+stroke's median (its length, direction, curvature) and its neighbours (whether its ends join
+another stroke, how many strokes it crosses), by k-nearest-neighbour averaging of the fitted
+plans' channels sampled along s. A hand file carries the examples; `Hand.plan(glyph)` gives a
+character's plans from its medians alone.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .targets import joins
+from .fit import FRAME_SPEED, GESTURES, controls_count
+from .plan import CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
+from .style import PROFILE_FAMILIES, Style, family
+
+HAND_VERSION = 1
+S = np.linspace(0.0, 1.0, 9)                 # where a plan's channels are sampled for learning
+LEARNED = ("press", "along", "across")       # the channels learned; the rest keep the style's
+FEATURES = ("length", "chord_cos", "chord_sin", "start_cos", "start_sin", "end_cos", "end_sin", "turning",
+            "corners", "joined_start", "joined_end", "crossings")
+NEIGHBOURS = 7
+_CACHE: dict = {}
+MIN_FAMILY = 12          # fewer examples of a family: its strokes learn from every family's
+
+
+def _crossings(medians: list, k: int) -> int:
+    """How many other medians stroke k's median crosses (segment intersections)."""
+    a = medians[k]
+    n = 0
+    for i, b in enumerate(medians):
+        if i != k and any(_segments_cross(a[j], a[j + 1], b[m], b[m + 1])
+                          for j in range(len(a) - 1) for m in range(len(b) - 1)):
+            n += 1
+    return n
+
+
+def _segments_cross(p, q, r, s) -> bool:
+    d = lambda a, b, c: (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])  # noqa: E731
+    return d(p, q, r) * d(p, q, s) < 0 and d(r, s, p) * d(r, s, q) < 0
+
+
+def stroke_features(medians: list, k: int, width_mm: float) -> np.ndarray:
+    """(len(FEATURES),) of stroke k among `medians` (mm polylines): length (mm), the chord's and
+    the end tangents' directions, the total turning (rad), the turns of more than 45 deg, its
+    ends on another stroke, the strokes it crosses."""
+    m = Median(medians[k])
+    chord = m.points[-1] - m.points[0]
+    c = chord / max(np.linalg.norm(chord), 1e-9)
+    d = np.diff(m.points, axis=0)
+    ang = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    turns = np.abs(np.diff(ang))
+    j0, j1 = joins(medians, k, width_mm)
+    return np.array([m.length, c[0], c[1], m.t0[0], m.t0[1], m.t1[0], m.t1[1], float(turns.sum()),
+                     float((turns > math.radians(45)).sum()), float(j0), float(j1), float(_crossings(medians, k))])
+
+
+def plan_row(plan: StrokePlan) -> np.ndarray:
+    """A plan's learned channels at S, then its reach past the median's start and end (mm)."""
+    return np.concatenate([plan.channel(c, S) for c in LEARNED] + [[plan.start_mm, plan.end_mm]])
+
+
+def medians_mm(glyph, em_mm: float) -> list:
+    return [np.asarray(s.points, dtype=float) * em_mm for s in glyph.strokes]
+
+
+class Hand:
+    """Examples a stroke family: features X (n, F) and plan rows Y (n, 3 len(S) + 2)."""
+
+    def __init__(self, style: str, families: dict, scale: np.ndarray):
+        self.style, self.families, self.scale = style, families, scale
+
+    @property
+    def strokes(self) -> int:
+        return sum(len(x) for x, _ in self.families.values())
+
+    def save(self, path: str | Path) -> None:
+        doc = {"version": HAND_VERSION, "style": self.style, "features": list(FEATURES),
+               "samples": S.tolist(), "channels": list(LEARNED), "scale": self.scale.round(5).tolist(),
+               "families": {f: {"X": np.round(x, 4).tolist(), "Y": np.round(y, 4).tolist()}
+                            for f, (x, y) in self.families.items()}}
+        Path(path).write_text(json.dumps(doc, separators=(",", ":")) + "\n", encoding="utf-8")
+
+    @classmethod
+    def cached(cls, path: Path) -> "Hand":
+        """The hand of `path`, read once a process."""
+        key = str(path)
+        if key not in _CACHE:
+            _CACHE[key] = cls.load(path)
+        return _CACHE[key]
+
+    @classmethod
+    def load(cls, path: str | Path) -> "Hand":
+        try:
+            doc = json.loads(Path(path).read_text(encoding="utf-8"))
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+            raise ValueError(f"{path}: not a hand file ({getattr(e, 'msg', e)})") from None
+        if not isinstance(doc, dict) or doc.get("version") != HAND_VERSION or doc.get("features") != list(FEATURES):
+            raise ValueError(f"{path}: not a hand file of version {HAND_VERSION} with features {', '.join(FEATURES)}")
+        fams = {f: (np.asarray(v["X"], float).reshape(-1, len(FEATURES)), np.asarray(v["Y"], float).reshape(-1, 3 * len(S) + 2))
+                for f, v in doc["families"].items()}
+        return cls(str(doc.get("style", "")), fams, np.asarray(doc["scale"], float))
+
+    def _examples(self, fam: str) -> tuple:
+        x, y = self.families.get(fam, (np.zeros((0, len(FEATURES))), None))
+        if len(x) >= MIN_FAMILY:
+            return x, y
+        every = [v for v in self.families.values() if len(v[0])]
+        return np.concatenate([v[0] for v in every]), np.concatenate([v[1] for v in every])
+
+    def predict(self, fam: str, feats: np.ndarray) -> np.ndarray:
+        """The plan row of a stroke of family `fam` with features `feats`: the inverse-distance
+        weighted mean of its NEIGHBOURS nearest examples (features over `scale`)."""
+        x, y = self._examples(fam)
+        d = np.sqrt((((x - feats) / self.scale) ** 2).sum(axis=1))
+        near = np.argsort(d)[:NEIGHBOURS]
+        w = 1.0 / (d[near] + 0.1)
+        return (w[:, None] * y[near]).sum(axis=0) / w.sum()
+
+    def plan(self, glyph, st: Style) -> GlyphPlan:
+        """The character's plans from its medians alone."""
+        meds = medians_mm(glyph, st.em_mm)
+        plans = []
+        for k, stroke in enumerate(glyph.strokes):
+            fam = family(stroke.kind)
+            row = self.predict(fam, stroke_features(meds, k, st.width_em * st.em_mm))
+            plans.append(_plan_from_row(row, Median(meds[k]).length, fam, st))
+        return GlyphPlan(glyph.char, plans, st.name)
+
+
+def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> StrokePlan:
+    k, n = controls_count(length), len(S)
+    ctl = {c: fit_controls(S, row[i * n:(i + 1) * n], k) for i, c in enumerate(LEARNED)}
+    ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[FRAME_SPEED])
+    (ef, eb), (xf, xm) = GESTURES[fam]
+    return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-2]), float(row[-1]),
+                      Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm))
+
+
+def learn_hand(pairs: list, st: Style) -> Hand:
+    """A hand from (glyph, GlyphPlan) pairs: every stroke an example of its family."""
+    fams: dict = {f: ([], []) for f in PROFILE_FAMILIES}
+    for glyph, gp in pairs:
+        meds = medians_mm(glyph, st.em_mm)
+        for k, (stroke, plan) in enumerate(zip(glyph.strokes, gp.strokes)):
+            xs, ys = fams[family(stroke.kind)]
+            xs.append(stroke_features(meds, k, st.width_em * st.em_mm))
+            ys.append(plan_row(plan))
+    out = {f: (np.array(x).reshape(-1, len(FEATURES)), np.array(y).reshape(-1, 3 * len(S) + 2))
+           for f, (x, y) in fams.items() if x}
+    allx = np.concatenate([x for x, _ in out.values()])
+    return Hand(st.name, out, np.maximum(allx.std(axis=0), 1e-3))

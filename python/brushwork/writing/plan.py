@@ -1,0 +1,263 @@
+"""A stroke's motion as a plan: smooth functions of the stroke's normalised arc length s in [0, 1]
+(clamped cubic B-splines of a few control values), with the entry and exit gestures, sampled into
+the brush's poses frame by frame and written open-loop (docs/plans.md describes the file).
+
+The reference point of frame j lies at arc length u_j = -start_mm + s_j (length + start_mm +
+end_mm) along the stroke's median (extended straight past its ends); the root stands `along(s)` mm
+further along the median and `across(s)` mm to its left, pressed `press(s)` tuft lengths below first
+contact, the handle tilted `tilt(s)` deg toward the median's heading turned by `azimuth(s)` deg
+and twisted `twist(s)` deg; frames lie `speed(s)` frame steps apart. The entry comes down from
+`hover` over `entry.frames` frames, landing `entry.back_mm` ahead of the start and drawn back to it
+(藏锋) as it presses; the exit lifts over `exit.frames` frames while the root moves `exit.move_mm`
+along the stroke (negative: drawn back over the ink, 回锋; positive: flicked out, 出锋).
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+PLAN_VERSION = 1
+CHANNELS = ("along", "across", "press", "tilt", "azimuth", "twist", "speed")
+# the bounds every channel's control values keep (unit): the root's reach, the press, the handle
+BOUNDS = {"along": (-40.0, 40.0), "across": (-20.0, 20.0), "press": (-0.2, 0.6), "tilt": (0.0, 60.0),
+          "azimuth": (-180.0, 180.0), "twist": (-180.0, 180.0), "speed": (0.2, 5.0)}
+MAX_CONTROLS = 32
+
+
+class PlanError(ValueError):
+    """A bad plan file: "FILE: where: what was expected"."""
+
+
+def bspline_basis(s: np.ndarray, k: int) -> np.ndarray:
+    """(len(s), k) clamped uniform cubic B-spline basis over [0, 1] with k >= 1 control values
+    (k < 4 lowers the degree to k - 1: one value is a constant, two a line). Rows sum to 1."""
+    s = np.clip(np.asarray(s, dtype=float), 0.0, 1.0)
+    deg = min(3, k - 1)
+    if deg == 0:
+        return np.ones((len(s), 1))
+    inner = np.linspace(0.0, 1.0, k - deg + 1)
+    t = np.concatenate([np.zeros(deg), inner, np.ones(deg)])
+    # Cox-de Boor: degree 0 on the knot spans, the last span closed at s = 1
+    b = np.zeros((len(s), len(t) - 1))
+    for i in range(len(t) - 1):
+        if t[i] < t[i + 1]:
+            b[:, i] = (s >= t[i]) & ((s < t[i + 1]) | ((t[i + 1] == 1.0) & (s == 1.0)))
+    for d in range(1, deg + 1):
+        nb = np.zeros((len(s), len(t) - 1 - d))
+        for i in range(len(t) - 1 - d):
+            left = (s - t[i]) / (t[i + d] - t[i]) * b[:, i] if t[i + d] > t[i] else 0.0
+            right = (t[i + d + 1] - s) / (t[i + d + 1] - t[i + 1]) * b[:, i + 1] if t[i + d + 1] > t[i + 1] else 0.0
+            nb[:, i] = left + right
+        b = nb
+    return b
+
+
+def fit_controls(s: np.ndarray, values: np.ndarray, k: int, smooth: float = 1e-3) -> np.ndarray:
+    """(k,) control values whose spline comes closest to `values` at `s` (least squares, with a
+    penalty `smooth` on the controls' second differences)."""
+    a = bspline_basis(s, k)
+    d2 = np.diff(np.eye(k), 2, axis=0) if k > 2 else np.zeros((0, k))
+    lhs = a.T @ a + smooth * len(s) * d2.T @ d2 + 1e-9 * np.eye(k)
+    return np.linalg.solve(lhs, a.T @ np.asarray(values, dtype=float))
+
+
+@dataclass
+class Gesture:
+    """An entry or an exit: frames, and how far the root moves along the stroke meanwhile (mm)."""
+    frames: int = 4
+    back_mm: float = 0.0      # entry: the tip lands this far ahead of the start (藏锋)
+    move_mm: float = 0.0      # exit: the root moves this far along while lifting (< 0: 回锋, > 0: 出锋)
+
+
+@dataclass
+class StrokePlan:
+    """One stroke's plan: control values a channel, the travel's reach past the median's ends
+    (mm) and the gestures."""
+    controls: dict = field(default_factory=dict)
+    start_mm: float = 0.0
+    end_mm: float = 0.0
+    entry: Gesture = field(default_factory=Gesture)
+    exit: Gesture = field(default_factory=Gesture)
+
+    def channel(self, name: str, s: np.ndarray) -> np.ndarray:
+        """The channel's values at s (array in [0, 1])."""
+        c = np.asarray(self.controls[name], dtype=float)
+        return bspline_basis(s, len(c)) @ c
+
+    def to_json(self) -> dict:
+        return {"controls": {k: [round(float(v), 5) for v in self.controls[k]] for k in CHANNELS},
+                "start_mm": round(self.start_mm, 4), "end_mm": round(self.end_mm, 4),
+                "entry": {"frames": self.entry.frames, "back_mm": round(self.entry.back_mm, 4)},
+                "exit": {"frames": self.exit.frames, "move_mm": round(self.exit.move_mm, 4)}}
+
+
+def _number(v, where: str, lo: float, hi: float) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo <= v <= hi:
+        raise PlanError(f"{where}: expected a number in {lo:g}..{hi:g}, got {json.dumps(v)[:30]}")
+    return float(v)
+
+
+def stroke_plan_from_json(doc, where: str) -> StrokePlan:
+    """A stroke's plan from its parsed JSON object; PlanError naming `where` and the field."""
+    if not isinstance(doc, dict) or not isinstance(doc.get("controls"), dict):
+        raise PlanError(f"{where}: expected an object with controls")
+    controls = {}
+    for name in CHANNELS:
+        vals = doc["controls"].get(name)
+        if not isinstance(vals, list) or not 1 <= len(vals) <= MAX_CONTROLS:
+            raise PlanError(f"{where}: controls.{name}: expected a list of 1..{MAX_CONTROLS} numbers")
+        controls[name] = [_number(v, f"{where}: controls.{name}", *BOUNDS[name]) for v in vals]
+    gest = []
+    for key in ("entry", "exit"):
+        g = doc.get(key, {})
+        if not isinstance(g, dict):
+            raise PlanError(f"{where}: {key}: expected an object")
+        frames = g.get("frames", 4)
+        if isinstance(frames, bool) or not isinstance(frames, int) or not 0 <= frames <= 100:
+            raise PlanError(f"{where}: {key}.frames: expected an integer 0..100")
+        gest.append(Gesture(frames, _number(g.get("back_mm", 0.0), f"{where}: {key}.back_mm", -50, 50),
+                            _number(g.get("move_mm", 0.0), f"{where}: {key}.move_mm", -50, 50)))
+    return StrokePlan(controls, _number(doc.get("start_mm", 0.0), f"{where}: start_mm", -50, 50),
+                      _number(doc.get("end_mm", 0.0), f"{where}: end_mm", -50, 50), *gest)
+
+
+@dataclass
+class GlyphPlan:
+    """A character's plans, one a stroke in writing order, and what they were made for."""
+    char: str
+    strokes: list
+    style: str = "kai"
+    iou: float | None = None    # the fit's IoU against the outlines, when fitted
+
+    def to_json(self) -> dict:
+        doc = {"version": PLAN_VERSION, "character": self.char, "style": self.style,
+               "strokes": [p.to_json() for p in self.strokes]}
+        if self.iou is not None:
+            doc["iou"] = round(self.iou, 4)
+        return doc
+
+    def save(self, folder: str | Path) -> Path:
+        """Write FOLDER/U+XXXX.json atomically; returns its path."""
+        path = plan_path(folder, self.char)
+        tmp = path.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(self.to_json(), ensure_ascii=False) + "\n", encoding="utf-8")
+        tmp.replace(path)
+        return path
+
+
+def plan_path(folder: str | Path, char: str) -> Path:
+    return Path(folder) / f"U+{ord(char):04X}.json"
+
+
+def load_plan(folder: str | Path, char: str, strokes: int | None = None) -> GlyphPlan:
+    """The plan of `char` in `folder` (PlanError when missing or bad; `strokes`: the number the
+    glyph has, which the plan must match)."""
+    path = plan_path(folder, char)
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise PlanError(f"{path}: no plan for {char} (brushwork fit makes one)") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as e:
+        raise PlanError(f"{path}: not a plan file ({getattr(e, 'msg', e)})") from None
+    if not isinstance(doc, dict) or doc.get("version") != PLAN_VERSION:
+        raise PlanError(f"{path}: version: expected {PLAN_VERSION}")
+    if doc.get("character") != char or not isinstance(doc.get("strokes"), list):
+        raise PlanError(f"{path}: expected the character {char} and a list of strokes")
+    if strokes is not None and len(doc["strokes"]) != strokes:
+        raise PlanError(f"{path}: {len(doc['strokes'])} stroke plans, but {char} has {strokes} strokes")
+    plans = [stroke_plan_from_json(p, f"{path}: strokes[{i}]") for i, p in enumerate(doc["strokes"])]
+    return GlyphPlan(char, plans, str(doc.get("style", "kai")), doc.get("iou"))
+
+
+class Median:
+    """A stroke's median (k, 2) mm as a function of arc length u (mm), extended straight past its
+    ends; its heading smoothed over `smooth_mm`."""
+
+    def __init__(self, points: np.ndarray, smooth_mm: float = 2.0):
+        pts = np.asarray(points, dtype=float)
+        keep = np.r_[True, np.hypot(*np.diff(pts, axis=0).T) > 1e-9]
+        pts = pts[keep]
+        if len(pts) == 1:
+            pts = np.vstack([pts, pts + [1e-3, 0.0]])
+        self.points = pts
+        self.u = np.r_[0.0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
+        self.length = float(self.u[-1])
+        d0, d1 = pts[1] - pts[0], pts[-1] - pts[-2]
+        self.t0, self.t1 = d0 / np.linalg.norm(d0), d1 / np.linalg.norm(d1)
+        self.smooth = smooth_mm
+
+    def at(self, u: np.ndarray) -> np.ndarray:
+        """(len(u), 2) mm: points at arc lengths u, straight on past the ends."""
+        u = np.asarray(u, dtype=float)
+        p = np.stack([np.interp(u, self.u, self.points[:, 0]), np.interp(u, self.u, self.points[:, 1])], axis=1)
+        p += np.minimum(u, 0.0)[:, None] * self.t0 + np.maximum(u - self.length, 0.0)[:, None] * self.t1
+        return p
+
+    def heading(self, u: np.ndarray) -> np.ndarray:
+        """(len(u),) rad: the direction of travel at u, from the chord over +-smooth mm."""
+        u = np.asarray(u, dtype=float)
+        h = max(self.smooth, 1e-3)
+        d = self.at(u + h) - self.at(u - h)
+        return np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+
+
+@dataclass
+class Frames:
+    """A stroke's sampled poses: root (m, 3) mm, tilt, azimuth, twist (m,) deg, press (m,) L;
+    `on` (m,) the frames of the travel (False: entry and exit); s (m,) the travel's s."""
+    root: np.ndarray
+    tilt: np.ndarray
+    azimuth: np.ndarray
+    twist: np.ndarray
+    press: np.ndarray
+    on: np.ndarray
+    s: np.ndarray
+
+
+def _travel_s(plan: StrokePlan, span: float, step_mm: float) -> np.ndarray:
+    """The travel's s values: frames speed(s) * step_mm apart (at least 0.05 mm) over `span` mm."""
+    grid = np.linspace(0.0, 1.0, 513)
+    gap = np.maximum(plan.channel("speed", grid) * step_mm, 0.05) / max(span, 1e-6)   # s a frame
+    s, out = 0.0, [0.0]
+    while s < 1.0:
+        s = min(1.0, s + float(np.interp(s, grid, gap)))
+        out.append(s)
+    return np.array(out)
+
+
+def sample(plan: StrokePlan, median: Median, shape_length: float, step_mm: float, hover: float) -> Frames:
+    """The plan's poses along `median`: the entry, the travel (frames `step_mm` x speed apart) and
+    the exit. shape_length: the tuft length L (mm; the press's unit); hover: L above first contact
+    where the entry starts and the exit ends."""
+    span = median.length + plan.start_mm + plan.end_mm
+    s = _travel_s(plan, span, step_mm)
+    ch = {k: plan.channel(k, s) for k in CHANNELS}
+    ref = -plan.start_mm + s * span
+    u_root = ref + ch["along"]
+    # entry: hovering over the landing point, then pressed while drawn back to the start
+    e = plan.entry.frames
+    te = np.arange(1, e + 1) / max(e, 1)
+    u_in = np.r_[u_root[0] + plan.entry.back_mm, u_root[0] + plan.entry.back_mm * (1.0 - te)]
+    p_in = np.r_[-hover, -hover + (ch["press"][0] + hover) * te]
+    # exit: lifted while moving along
+    x = plan.exit.frames
+    tx = np.arange(1, x + 1) / max(x, 1)
+    u_out = u_root[-1] + plan.exit.move_mm * tx
+    p_out = ch["press"][-1] + (-hover - ch["press"][-1]) * tx
+    u = np.r_[u_in, u_root, u_out]
+    n_in, n_out = len(u_in), len(u_out)
+    def pad(a):
+        return np.r_[np.full(n_in, a[0]), a, np.full(n_out, a[-1])]
+    across = pad(ch["across"])
+    head = median.heading(u)
+    root = median.at(u) + across[:, None] * np.stack([-np.sin(head), np.cos(head)], axis=1)
+    tilt = pad(ch["tilt"])
+    press = np.r_[p_in, ch["press"], p_out]
+    z = shape_length * np.cos(np.radians(tilt)) - press * shape_length
+    on = np.r_[np.zeros(n_in, bool), np.ones(len(s), bool), np.zeros(n_out, bool)]
+    return Frames(np.column_stack([root, z]), tilt, np.degrees(head) + pad(ch["azimuth"]), pad(ch["twist"]),
+                  press, on, pad(s))

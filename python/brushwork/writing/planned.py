@@ -1,0 +1,121 @@
+"""Writing from plans: a glyph's strokes, each sampled from its plan (writing/plan.py) and written
+open-loop, no per-frame feedback, onto a Paper or onto an `InkGrid` (a fast ink without GL: the
+footprints and the band between consecutive ones filled on a pixel grid).
+
+The em box is drawn as Make Me a Hanzi's SVG recipe draws it (the box fills the image, no style
+offset), so ink and outlines compare pixel for pixel.
+"""
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+
+from ..brush import Brush, Pose
+from .plan import GlyphPlan, Median, StrokePlan, sample
+from .style import Style
+
+TRAVEL_STEP_MM = 4.0      # mm the root moves a frame in the air between strokes
+TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
+_SHIFT = 4                # cv2.fillPoly fixed-point bits
+
+
+def _area(loop: np.ndarray) -> float:
+    """Signed area (shoelace) of a closed polygon (k, 2): > 0 counter-clockwise."""
+    x, y = loop[:, 0], loop[:, 1]
+    return 0.5 * float(x[:-1] @ y[1:] - y[:-1] @ x[1:] + x[-1] * y[0] - y[-1] * x[0])
+
+
+class InkGrid:
+    """A GL-free ink: a (size, size) uint8 mask whose em box (em_mm square, y up) fills the grid.
+    deposit(brush) fills the footprint's outer loops and the convex hull of this footprint with
+    the last one of the same stroke (the band the tuft swept between the frames)."""
+
+    def __init__(self, size: int, em_mm: float):
+        self.size, self.ppm, self.em_mm = int(size), size / em_mm, em_mm
+        self.mask = np.zeros((self.size, self.size), np.uint8)
+        self.stroke = np.zeros_like(self.mask)   # the current stroke's ink alone
+        self.last: np.ndarray | None = None      # (k, 2) px points of the last footprint, this stroke
+
+    def _px(self, loop: np.ndarray) -> np.ndarray:
+        p = np.stack([loop[:, 0] * self.ppm, (self.em_mm - loop[:, 1]) * self.ppm], axis=1)
+        return np.round(p * (1 << _SHIFT)).astype(np.int32)
+
+    def deposit(self, brush: Brush) -> bool:
+        """The ink under the brush; True when it touches the paper."""
+        loops = [np.asarray(lp)[:, :2] for lp in brush.footprint()]
+        outer = [self._px(lp) for lp in loops if len(lp) >= 3 and _area(lp) > 0.0]
+        if not outer:
+            self.last = None
+            return False
+        cv2.fillPoly(self.stroke, outer, 1, cv2.LINE_8, _SHIFT)
+        pts = np.concatenate(outer)
+        if self.last is not None:
+            hull = cv2.convexHull(np.concatenate([self.last, pts]))
+            cv2.fillPoly(self.stroke, [hull], 1, cv2.LINE_8, _SHIFT)
+        self.last = pts
+        return True
+
+    def end_stroke(self) -> None:
+        self.mask |= self.stroke
+        self.stroke[:] = 0
+        self.last = None
+
+    def ink(self) -> np.ndarray:
+        """(size, size) bool, row 0 at the top."""
+        return (self.mask | self.stroke).astype(bool)
+
+
+class PlanWriter:
+    """Writes glyphs from plans with one brush, its state (bend, plasticity, ink) carried from
+    stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid."""
+
+    def __init__(self, style: Style, sink, brush: Brush | None = None, origin_mm=(0.0, 0.0)):
+        self.style, self.sink = style, sink
+        self.origin = np.asarray(origin_mm, dtype=float)
+        self.brush = brush if brush is not None else Brush(style.preset)
+        self.L = self.brush.model.tuft_length
+        self.frames = 0
+
+    def medians_mm(self, glyph) -> list[Median]:
+        """The glyph's medians in mm, the em box's bottom-left corner at `origin_mm`."""
+        return [Median(self.origin + np.asarray(s.points, dtype=float) * self.style.em_mm) for s in glyph.strokes]
+
+    def travel(self, to: np.ndarray, azimuth: float, tilt: float) -> None:
+        """Lift (if down) and carry the root in the air to `to` (3,) mm."""
+        here = np.asarray(self.brush.skeleton()[0], dtype=float)
+        dist = float(np.linalg.norm(to[:2] - here[:2]))
+        n = int(np.clip(math.ceil(dist / TRAVEL_STEP_MM), *TRAVEL_FRAMES))
+        z_air = max(here[2], to[2])
+        for j in range(n):
+            t = (j + 1) / n
+            p = here + (to - here) * t
+            self._step(Pose((p[0], p[1], z_air if j < n - 1 else to[2]), tilt, azimuth))
+        self._end()
+
+    def _step(self, pose: Pose) -> bool:
+        self.brush.step(pose)
+        self.frames += 1
+        return bool(self.sink.deposit(self.brush) if isinstance(self.sink, InkGrid)
+                    else self.sink.deposit(self.brush).contact)
+
+    def _end(self) -> None:
+        self.sink.end_stroke()
+
+    def write_stroke(self, plan: StrokePlan, median: Median, finish: bool = True) -> None:
+        """Travel to the stroke's first pose and write it; `finish`: end the stroke on the sink."""
+        st = self.style
+        f = sample(plan, median, self.L, st.step_mm, st.hover)
+        self.travel(f.root[0], float(f.azimuth[0]), float(f.tilt[0]))
+        for j in range(1, len(f.press)):
+            self._step(Pose(tuple(f.root[j]), float(f.tilt[j]), float(f.azimuth[j]), float(f.twist[j])))
+        if finish:
+            self._end()
+
+    def write(self, glyph, plan: GlyphPlan) -> None:
+        if len(plan.strokes) != len(glyph.strokes):
+            raise ValueError(f"{glyph.char}: {len(plan.strokes)} stroke plans for {len(glyph.strokes)} strokes")
+        self.brush.load_ink(total_mm2=self.style.ink_mm2, excess=0.0)
+        for p, m in zip(plan.strokes, self.medians_mm(glyph)):
+            self.write_stroke(p, m)
