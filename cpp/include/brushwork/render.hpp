@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "brushwork/brush.hpp"
+#include "brushwork/render/gl_name.hpp"
 #include "brushwork/sweep_plan.hpp"
 
 namespace brushwork {
@@ -232,8 +233,10 @@ class Paper {
   bool max_blend_ = false;  // the layer keeps the densest deposit by max blending (no colour ramp)
   std::vector<std::unique_ptr<PaperTile>> tiles_;
   std::unique_ptr<FootprintPass> program_;
-  unsigned composite_program_ = 0, quad_vao_ = 0, quad_vbo_ = 0;
-  unsigned split_tex_ = 0, dry_tex_ = 0, grain_tex_ = 0, ramp_tex_ = 0;
+  unsigned composite_program_ = 0;  // owned by the context
+  GlVertexArray quad_vao_;
+  GlBuffer quad_vbo_;
+  GlTexture split_tex_, dry_tex_, grain_tex_, ramp_tex_;
 
   // stroke state: the last deposit's surface (for the sweep), the stroke's pixel rectangle
   bool stroke_open_ = false, stroke_pending_ = false;
@@ -288,9 +291,12 @@ class BrushView {
 
   std::shared_ptr<RenderContext> ctx_;
   int W_, H_;
-  unsigned fbo_ms_ = 0, color_ms_ = 0, depth_ms_ = 0, fbo_ = 0, color_ = 0;
-  unsigned brush_prog_ = 0, paper_prog_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0;
-  unsigned paper_vao_ = 0, paper_vbo_ = 0, ramp_tex_ = 0;
+  GlFramebuffer fbo_ms_, fbo_;
+  GlRenderbuffer color_ms_, depth_ms_;
+  GlTexture color_, ramp_tex_;
+  unsigned brush_prog_ = 0, paper_prog_ = 0;  // owned by the context
+  GlVertexArray vao_, paper_vao_;
+  GlBuffer vbo_, ibo_, paper_vbo_;
 };
 
 }  // namespace brushwork

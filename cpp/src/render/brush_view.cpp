@@ -76,28 +76,28 @@ BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) 
   GLint max_samples = 1;
   gl::GetIntegerv(GL_MAX_SAMPLES, &max_samples);
   const GLsizei samples = std::clamp(static_cast<int>(max_samples), 1, 4);
-  gl::GenRenderbuffers(1, &color_ms_);
+  color_ms_.generate(ctx_.get());
   gl::BindRenderbuffer(GL_RENDERBUFFER, color_ms_);
   gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_RGBA8, W_, H_);
-  gl::GenRenderbuffers(1, &depth_ms_);
+  depth_ms_.generate(ctx_.get());
   gl::BindRenderbuffer(GL_RENDERBUFFER, depth_ms_);
   gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples, GL_DEPTH24_STENCIL8, W_, H_);
-  gl::GenFramebuffers(1, &fbo_ms_);
+  fbo_ms_.generate(ctx_.get());
   gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_ms_);
   gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_ms_);
   gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_ms_);
   glu::check_framebuffer("brush view");
-  color_ = glu::texture(GL_RGBA8, W_, H_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr, false, GL_CLAMP_TO_EDGE);
-  gl::GenFramebuffers(1, &fbo_);
+  color_.reset(ctx_.get(), glu::texture(GL_RGBA8, W_, H_, GL_RGBA, GL_UNSIGNED_BYTE, nullptr, false, GL_CLAMP_TO_EDGE));
+  fbo_.generate(ctx_.get());
   gl::BindFramebuffer(GL_FRAMEBUFFER, fbo_);
   gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_, 0);
   glu::check_framebuffer("brush view resolve");
 
   brush_prog_ = ctx_->program(shaders::kViewVertex, shaders::kViewFragment, {});
   paper_prog_ = ctx_->program(shaders::kPaperVertex, shaders::kPaperFragment, {});
-  glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 2});  // position, normal, uv
-  gl::GenVertexArrays(1, &paper_vao_);
-  gl::GenBuffers(1, &paper_vbo_);
+  glu::indexed_vertex_array(ctx_.get(), vao_, vbo_, ibo_, {3, 3, 2});  // position, normal, uv
+  paper_vao_.generate(ctx_.get());
+  paper_vbo_.generate(ctx_.get());
   gl::BindVertexArray(paper_vao_);
   gl::BindBuffer(GL_ARRAY_BUFFER, paper_vbo_);
   gl::EnableVertexAttribArray(0);
@@ -105,29 +105,11 @@ BrushView::BrushView(int width_px, int height_px) : W_(width_px), H_(height_px) 
   gl::EnableVertexAttribArray(1);
   gl::VertexAttribPointer(1, 2, GL_FLOAT, GL_FALSE, 4 * sizeof(float), reinterpret_cast<const void*>(2 * sizeof(float)));
   gl::BindVertexArray(0);
-  ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
+  ramp_tex_.reset(ctx_.get(), glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE));
   glu::check("brush view set-up");
 }
 
-BrushView::~BrushView() {
-  if (!ctx_ || ctx_->closed()) return;
-  try {
-    ctx_->make_current();
-  } catch (...) {
-    return;
-  }
-  gl::DeleteFramebuffers(1, &fbo_ms_);
-  gl::DeleteFramebuffers(1, &fbo_);
-  gl::DeleteRenderbuffers(1, &color_ms_);
-  gl::DeleteRenderbuffers(1, &depth_ms_);
-  gl::DeleteTextures(1, &color_);
-  gl::DeleteTextures(1, &ramp_tex_);
-  gl::DeleteVertexArrays(1, &vao_);
-  gl::DeleteVertexArrays(1, &paper_vao_);
-  gl::DeleteBuffers(1, &vbo_);
-  gl::DeleteBuffers(1, &ibo_);
-  gl::DeleteBuffers(1, &paper_vbo_);
-}
+BrushView::~BrushView() = default;  // the GL objects delete themselves (GlName)
 
 namespace {
 

@@ -65,24 +65,21 @@ std::vector<float> clip_positions(const double* v, int n, const double* M, int W
 
 // the GL objects of one pass, released when it ends (also on an exception)
 struct DepthTargets {
-  GLuint fbo = 0, color = 0, depth = 0, vao = 0, vbo = 0, ibo = 0;
-  ~DepthTargets() {
-    gl::DeleteFramebuffers(1, &fbo);
-    gl::DeleteTextures(1, &color);
-    gl::DeleteRenderbuffers(1, &depth);
-    gl::DeleteVertexArrays(1, &vao);
-    gl::DeleteBuffers(1, &vbo);
-    gl::DeleteBuffers(1, &ibo);
-  }
+  const RenderContext* ctx = nullptr;  // current, the pass's
+  GlFramebuffer fbo;
+  GlTexture color;
+  GlRenderbuffer depth;
+  GlVertexArray vao;
+  GlBuffer vbo, ibo;
 };
 
 // a framebuffer of one float colour (the depth p2/p3) and a depth buffer for the test
 void make_targets(DepthTargets& t, int W, int H) {
-  t.color = glu::texture(GL_R32F, W, H, GL_RED, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
-  gl::GenRenderbuffers(1, &t.depth);
+  t.color.reset(t.ctx, glu::texture(GL_R32F, W, H, GL_RED, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE));
+  t.depth.generate(t.ctx);
   gl::BindRenderbuffer(GL_RENDERBUFFER, t.depth);
   gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, 0, GL_DEPTH_COMPONENT32F, W, H);
-  gl::GenFramebuffers(1, &t.fbo);
+  t.fbo.generate(t.ctx);
   gl::BindFramebuffer(GL_FRAMEBUFFER, t.fbo);
   gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.color, 0);
   gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, t.depth);
@@ -91,7 +88,7 @@ void make_targets(DepthTargets& t, int W, int H) {
 
 void upload(DepthTargets& t, const std::vector<float>& clip, const std::int64_t* faces, int n_faces) {
   std::vector<std::uint32_t> idx(faces, faces + static_cast<std::size_t>(n_faces) * 3);
-  glu::indexed_vertex_array(t.vao, t.vbo, t.ibo, {4});
+  glu::indexed_vertex_array(t.ctx, t.vao, t.vbo, t.ibo, {4});
   gl::BindVertexArray(t.vao);
   gl::BindBuffer(GL_ARRAY_BUFFER, t.vbo);
   gl::BufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(clip.size() * sizeof(float)), clip.data(), GL_STREAM_DRAW);
@@ -122,6 +119,7 @@ void render_depth(const double* vertices, int n_vertices, const std::int64_t* fa
   ctx->make_current();
   const GLuint prog = ctx->program(kDepthVertex, kDepthFragment, {});
   DepthTargets t;
+  t.ctx = ctx.get();
   make_targets(t, width, height);
   gl::Viewport(0, 0, width, height);
   gl::Disable(GL_SCISSOR_TEST);

@@ -51,13 +51,7 @@ FootprintPass::FootprintPass(RenderContext& ctx, const SceneFeatures& scene, boo
       {&u_density_, "u_density"}};
   for (const auto& [loc, name] : uniforms) *loc = glu::uniform(prog_, name);
   // interleaved: prev (3), cur (3), centre prev (3), centre cur (3), uv (2) floats
-  glu::indexed_vertex_array(vao_, vbo_, ibo_, {3, 3, 3, 3, 2});
-}
-
-void FootprintPass::release() {
-  gl::DeleteVertexArrays(1, &vao_);
-  gl::DeleteBuffers(1, &vbo_);
-  gl::DeleteBuffers(1, &ibo_);
+  glu::indexed_vertex_array(&ctx, vao_, vbo_, ibo_, {3, 3, 3, 3, 2});
 }
 
 void FootprintPass::upload(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur) {

@@ -51,7 +51,6 @@ class FootprintPass {
   // max_blend: the layer keeps the densest deposit by max blending (one ink colour); otherwise
   // by the depth test on 1 - alpha
   FootprintPass(RenderContext& ctx, const SceneFeatures& scene, bool max_blend);
-  void release();  // delete the buffers (the program belongs to the context)
 
   // upload the vertices of `last` and `cur`, the indices of `plan` and the uniforms; set the
   // blend, depth, cull and scissor state for draw()
@@ -69,7 +68,9 @@ class FootprintPass {
   SceneFeatures scene_;
   bool max_blend_ = false;
   double ppm_ = 1.0;
-  GLuint prog_ = 0, vao_ = 0, vbo_ = 0, ibo_ = 0;
+  GLuint prog_ = 0;  // owned by the context
+  GlVertexArray vao_;
+  GlBuffer vbo_, ibo_;
   // bytes allocated to vbo and ibo: a deposit that fits writes into them (glBufferSubData)
   // rather than allocating new storage each frame, which llvmpipe clears and copies (~7% of a
   // 1024 px deposit's instructions, counted under valgrind); llvmpipe flushes the last frame

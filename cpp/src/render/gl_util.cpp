@@ -67,10 +67,11 @@ GLuint texture(GLenum internal, int w, int h, GLenum format, GLenum type, const 
   return tex;
 }
 
-void indexed_vertex_array(GLuint& vao, GLuint& vbo, GLuint& ibo, std::initializer_list<int> widths) {
-  gl::GenVertexArrays(1, &vao);
-  gl::GenBuffers(1, &vbo);
-  gl::GenBuffers(1, &ibo);
+void indexed_vertex_array(const RenderContext* ctx, GlVertexArray& vao, GlBuffer& vbo, GlBuffer& ibo,
+                          std::initializer_list<int> widths) {
+  vao.generate(ctx);
+  vbo.generate(ctx);
+  ibo.generate(ctx);
   gl::BindVertexArray(vao);
   gl::BindBuffer(GL_ARRAY_BUFFER, vbo);
   gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo);

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "brushwork/render/gl_name.hpp"
 #include "gl_api.hpp"
 
 namespace brushwork::glu {
@@ -32,7 +33,9 @@ inline GLint uniform(GLuint prog, const char* name) { return gl::GetUniformLocat
 
 // a new vertex array `vao` over new buffers `vbo` (vertices) and `ibo` (indices): attribute a
 // is widths[a] floats, interleaved in that order; leaves no vertex array bound
-void indexed_vertex_array(GLuint& vao, GLuint& vbo, GLuint& ibo, std::initializer_list<int> widths);
+// (in `ctx`, current)
+void indexed_vertex_array(const RenderContext* ctx, GlVertexArray& vao, GlBuffer& vbo, GlBuffer& ibo,
+                          std::initializer_list<int> widths);
 
 // vertex attributes interleaved for one buffer: (V, sum of widths) floats, each attribute a
 // (V, width) array given as (data, width), in the order listed

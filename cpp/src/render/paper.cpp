@@ -24,11 +24,15 @@ namespace brushwork {
 // one tile of the canvas: the paper and, allocated on first use, the stroke layer
 struct PaperTile {
   int x0 = 0, y0 = 0, w = 0, h = 0;  // px, y up
-  GLuint paper_tex = 0, paper_fbo = 0;
+  GlTexture paper_tex;
+  GlFramebuffer paper_fbo;
   // the stroke layer: multisampled colour and depth (drawn into), and a single-sample
   // texture it resolves into (composited and read back)
-  GLuint layer_color_ms = 0, layer_depth_ms = 0, layer_fbo = 0;
-  GLuint layer_tex = 0, resolve_fbo = 0;
+  GlRenderbuffer layer_color_ms, layer_depth_ms;
+  GlFramebuffer layer_fbo;
+  GlTexture layer_tex;
+  GlFramebuffer resolve_fbo;  // 0 with one sample: the layer is drawn straight into layer_tex
+  GLuint resolved() const { return resolve_fbo ? resolve_fbo : layer_fbo; }  // holds layer_tex
 };
 
 namespace {
@@ -119,8 +123,8 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
       t->y0 = y0;
       t->w = std::min(T_, W_ - x0);
       t->h = std::min(T_, H_ - y0);
-      t->paper_tex = glu::texture(GL_RGBA32F, t->w, t->h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE);
-      gl::GenFramebuffers(1, &t->paper_fbo);
+      t->paper_tex.reset(ctx_.get(), glu::texture(GL_RGBA32F, t->w, t->h, GL_RGBA, GL_FLOAT, nullptr, false, GL_CLAMP_TO_EDGE));
+      t->paper_fbo.generate(ctx_.get());
       gl::BindFramebuffer(GL_FRAMEBUFFER, t->paper_fbo);
       gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->paper_tex, 0);
       glu::check_framebuffer("paper tile");
@@ -141,8 +145,8 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   // composite: a full-tile triangle pair
   composite_program_ = ctx_->program(shaders::kQuadVertex, shaders::kCompositeFragment, {});
   const float quad[12] = {-1, -1, 1, -1, 1, 1, -1, -1, 1, 1, -1, 1};
-  gl::GenVertexArrays(1, &quad_vao_);
-  gl::GenBuffers(1, &quad_vbo_);
+  quad_vao_.generate(ctx_.get());
+  quad_vbo_.generate(ctx_.get());
   gl::BindVertexArray(quad_vao_);
   gl::BindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
   gl::BufferData(GL_ARRAY_BUFFER, sizeof(quad), quad, GL_STATIC_DRAW);
@@ -153,34 +157,11 @@ Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFea
   // the split, dry and grain fields are procedural (in the footprint shader) until an image
   // replaces one (set_map)
   if (scene_.color_ramp)
-    ramp_tex_ = glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE);
+    ramp_tex_.reset(ctx_.get(), glu::texture(GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, nullptr, true, GL_CLAMP_TO_EDGE));
   glu::check("paper set-up");
 }
 
-Paper::~Paper() {
-  if (!ctx_ || ctx_->closed()) return;  // the context took every GL object with it
-  try {
-    ctx_->make_current();
-  } catch (...) {
-    return;
-  }
-  for (auto& t : tiles_) {
-    gl::DeleteFramebuffers(1, &t->paper_fbo);
-    gl::DeleteTextures(1, &t->paper_tex);
-    if (t->layer_fbo) {
-      if (t->resolve_fbo != t->layer_fbo) gl::DeleteFramebuffers(1, &t->resolve_fbo);
-      gl::DeleteFramebuffers(1, &t->layer_fbo);
-      if (t->layer_color_ms) gl::DeleteRenderbuffers(1, &t->layer_color_ms);
-      gl::DeleteRenderbuffers(1, &t->layer_depth_ms);
-      gl::DeleteTextures(1, &t->layer_tex);
-    }
-  }
-  if (program_) program_->release();
-  gl::DeleteVertexArrays(1, &quad_vao_);
-  gl::DeleteBuffers(1, &quad_vbo_);
-  for (GLuint tex : {split_tex_, dry_tex_, grain_tex_, ramp_tex_})
-    if (tex) gl::DeleteTextures(1, &tex);
-}
+Paper::~Paper() = default;  // the GL objects delete themselves (GlName)
 
 void Paper::set_map(const std::string& which, const float* data, int rows, int cols) {
   if (rows < kMinMapPx || cols < kMinMapPx || rows > kMaxMapPx || cols > kMaxMapPx)
@@ -189,7 +170,7 @@ void Paper::set_map(const std::string& which, const float* data, int rows, int c
   for (long i = 0; i < static_cast<long>(rows) * cols; ++i)
     if (!std::isfinite(data[i]) || data[i] < 0.0f || data[i] > 1.0f)
       throw std::invalid_argument(which + " map: values must be in 0..1");
-  GLuint* tex = nullptr;
+  GlTexture* tex = nullptr;
   bool on = false;
   if (which == "split") tex = &split_tex_, on = scene_.split_map;
   else if (which == "dry") tex = &dry_tex_, on = scene_.dry_map;
@@ -199,8 +180,7 @@ void Paper::set_map(const std::string& which, const float* data, int rows, int c
     throw std::invalid_argument("the " + which + " map is not part of this paper's scene; "
                                 "create the paper with it switched on");
   ctx_->make_current();
-  if (*tex) gl::DeleteTextures(1, tex);
-  *tex = glu::texture(GL_R32F, cols, rows, GL_RED, GL_FLOAT, data, true, GL_REPEAT);
+  tex->reset(ctx_.get(), glu::texture(GL_R32F, cols, rows, GL_RED, GL_FLOAT, data, true, GL_REPEAT));
 }
 
 void Paper::for_tiles(const Rect& rect, bool stroke_layer,
@@ -219,17 +199,17 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       // the stroke's, applied when the layer is composited (a quarter of the bytes per fragment
       // blended and read back; ~20% of a deposit on llvmpipe)
       const GLenum layer_format = max_blend_ ? GL_R32F : GL_RGBA32F;
-      t.layer_tex = glu::texture(layer_format, t.w, t.h, max_blend_ ? GL_RED : GL_RGBA, GL_FLOAT, nullptr, false,
-                                 GL_CLAMP_TO_EDGE);
+      t.layer_tex.reset(ctx_.get(), glu::texture(layer_format, t.w, t.h, max_blend_ ? GL_RED : GL_RGBA, GL_FLOAT,
+                                                 nullptr, false, GL_CLAMP_TO_EDGE));
       if (!max_blend_) {
-        gl::GenRenderbuffers(1, &t.layer_depth_ms);
+        t.layer_depth_ms.generate(ctx_.get());
         gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_depth_ms);
         gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT32F, t.w, t.h);
       }
-      gl::GenFramebuffers(1, &t.layer_fbo);
+      t.layer_fbo.generate(ctx_.get());
       gl::BindFramebuffer(GL_FRAMEBUFFER, t.layer_fbo);
       if (samples_ > 1) {
-        gl::GenRenderbuffers(1, &t.layer_color_ms);
+        t.layer_color_ms.generate(ctx_.get());
         gl::BindRenderbuffer(GL_RENDERBUFFER, t.layer_color_ms);
         gl::RenderbufferStorageMultisample(GL_RENDERBUFFER, samples_, layer_format, t.w, t.h);
         gl::FramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.layer_color_ms);
@@ -245,13 +225,11 @@ void Paper::for_tiles(const Rect& rect, bool stroke_layer,
       gl::ClearDepth(1.0);
       gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       if (samples_ > 1) {
-        gl::GenFramebuffers(1, &t.resolve_fbo);
-        gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+        t.resolve_fbo.generate(ctx_.get());
+        gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolved());
         gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t.layer_tex, 0);
         glu::check_framebuffer("stroke layer resolve");
         gl::Clear(GL_COLOR_BUFFER_BIT);
-      } else {
-        t.resolve_fbo = t.layer_fbo;  // nothing to resolve
       }
       glu::check("stroke layer allocation");
     }
@@ -571,7 +549,7 @@ void Paper::read_tiles(const std::function<void(const PaperTile&, const float*)>
       const bool single = li[3] > 0.5f;
       const int comps = single ? 1 : 4;
       layer.resize(static_cast<std::size_t>(comps) * w * h);
-      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolve_fbo);
+      gl::BindFramebuffer(GL_FRAMEBUFFER, t.resolved());
       gl::ReadPixels(x, y, w, h, single ? GL_RED : GL_RGBA, GL_FLOAT, layer.data());
       for (int j = 0; j < h; ++j)
         for (int i = 0; i < w; ++i) {
