@@ -1,6 +1,6 @@
 #include "brushwork/render/gl_name.hpp"
 
-#include "brushwork/render.hpp"
+#include "brushwork/render/context.hpp"
 #include "gl_api.hpp"
 
 namespace brushwork {
