@@ -76,6 +76,24 @@ M [v, 1], pixel (p0/p3, p1/p3), x right, y down from the top-left corner): p2/p3
 surface at each pixel centre, +inf where the mesh does not cover it. vertices (n, 3), faces (m, 3).)doc");
 }
 
+// one field of SceneFeatures as a Python attribute of its row's type
+void bind_scene_field(py::class_<SceneFeatures>& c, const SceneSlot& slot) {
+  if (slot.flag) c.def_readwrite(slot.name, slot.flag, slot.doc);
+  if (slot.real) c.def_readwrite(slot.name, slot.real, slot.doc);
+  if (slot.count) c.def_readwrite(slot.name, slot.count, slot.doc);
+  if (slot.seed) c.def_readwrite(slot.name, slot.seed, slot.doc);
+}
+
+py::list scene_slot_dicts() {
+  py::list rows;
+  for (const SceneSlot& slot : scene_slots())
+    rows.append(py::dict(py::arg("name") = slot.name, py::arg("unit") = slot.unit, py::arg("kind") = slot.kind,
+                         py::arg("default") = slot.value, py::arg("lo") = slot.lo, py::arg("hi") = slot.hi,
+                         py::arg("expected") = slot.expected ? py::object(py::str(slot.expected)) : py::none(),
+                         py::arg("define") = slot.define, py::arg("doc") = slot.doc));
+  return rows;
+}
+
 }  // namespace
 
 void bind_render(py::module_& m) {
@@ -90,32 +108,13 @@ software | disable and BRUSHWORK_EGL_DEVICE = index choose it. close() may be ca
       .def("__enter__", [](std::shared_ptr<RenderContext> c) { return c; })
       .def("__exit__", [](RenderContext& c, py::args) { c.close(); });
 
-  py::class_<SceneFeatures>(m, "SceneFeatures", R"doc(
-What a scene uses; what it does not use is not computed and not compiled into the shaders.)doc")
-      .def(py::init<>())
-      .def_readwrite("split_map", &SceneFeatures::split_map)
-      .def_readwrite("dry_map", &SceneFeatures::dry_map)
-      .def_readwrite("grain", &SceneFeatures::grain)
-      .def_readwrite("soaked_tip", &SceneFeatures::soaked_tip)
-      .def_readwrite("color_ramp", &SceneFeatures::color_ramp)
-      .def_readwrite("depletion", &SceneFeatures::depletion)
-      .def_readwrite("dry_onset", &SceneFeatures::dry_onset)
-      .def_readwrite("dry_pressure", &SceneFeatures::dry_pressure)
-      .def_readwrite("grain_onset", &SceneFeatures::grain_onset)
-      .def_readwrite("grain_pressure", &SceneFeatures::grain_pressure)
-      .def_readwrite("grain_mm", &SceneFeatures::grain_mm)
-      .def_readwrite("streak_mm", &SceneFeatures::streak_mm)
-      .def_readwrite("dry_speed", &SceneFeatures::dry_speed)
-      .def_readwrite("soak_expand", &SceneFeatures::soak_expand)
-      .def_readwrite("soak_shift", &SceneFeatures::soak_shift)
-      .def_readwrite("soak_drain_mm", &SceneFeatures::soak_drain_mm)
-      .def_readwrite("capillary", &SceneFeatures::capillary)
-      .def_readwrite("seed", &SceneFeatures::seed)
-      .def_readwrite("mesh_rings", &SceneFeatures::mesh_rings)
-      .def_readwrite("mesh_around", &SceneFeatures::mesh_around)
-      .def_readwrite("mesh_mm", &SceneFeatures::mesh_mm)
-      .def_readwrite("samples", &SceneFeatures::samples)
-      .def("validate", &SceneFeatures::validate);
+  py::class_<SceneFeatures> scene(m, "SceneFeatures", R"doc(
+What a scene uses; what it does not use is not computed and not compiled into the shaders.
+Its fields are the rows of scene_slots().)doc");
+  scene.def(py::init<>()).def("validate", &SceneFeatures::validate);
+  for (const SceneSlot& slot : scene_slots()) bind_scene_field(scene, slot);
+  m.def("scene_slots", &scene_slot_dicts, "the scene's table: one dict per field (name, unit, kind, "
+        "default, lo, hi, expected, define, doc), features first");
 
   py::class_<Ink>(m, "Ink", R"doc(
 Ink on one brush. ramp: (K, 4) straight RGBA root..tip; load, capacity: (n+1,) mm^2 of paper at

@@ -8,31 +8,17 @@ from __future__ import annotations
 
 from . import _core
 
+#: the scene's table (name, unit, kind, default, range, shader define, doc), written once in the core
+SLOTS = tuple(_core.scene_slots())
+
 #: feature switches, in the order the seed introduces them
-FEATURES = ("split_map", "dry_map", "grain", "soaked_tip", "color_ramp", "depletion")
+FEATURES = tuple(row["name"] for row in SLOTS if row["kind"] == "bool")
 
 #: the features only the GL footprint pass draws (a scene without them is opaque: its ink is geometry)
 TEXTURED = ("split_map", "dry_map", "grain", "soaked_tip", "color_ramp")
 
 #: tuning fields: name -> (unit, meaning)
-PARAMETERS = {
-    "dry_onset": ("-", "wetness below which the dry map opens streaks"),
-    "dry_pressure": ("-", "how much node pressure closes dry streaks again"),
-    "grain_onset": ("-", "wetness below which paper grain shows"),
-    "grain_pressure": ("-", "how much pressure presses ink into the grain's valleys"),
-    "grain_mm": ("mm", "size of the paper grain's features"),
-    "streak_mm": ("mm", "width of a bristle streak across the stroke (split and dry fields)"),
-    "dry_speed": ("-", "dryness added per mm the footprint travels per frame"),
-    "soak_expand": ("-", "radial growth of a soaked tip at full excess moisture"),
-    "soak_shift": ("-", "split map scaled toward the tip at full excess moisture"),
-    "soak_drain_mm": ("mm", "travel in contact over which excess moisture falls by 1/e"),
-    "capillary": ("-", "depletion: per frame, each node's wetness moves this far toward the tuft's mean"),
-    "seed": ("-", "seed of the procedural split, dry and grain fields"),
-    "mesh_rings": ("-", "rings per spine segment of the swept surface, at most"),
-    "mesh_around": ("-", "vertices around one ring, at most"),
-    "mesh_mm": ("mm", "the render mesh is this fine (segment and belly circumference over it), up to the two caps, at every output size from 3 px to mesh_mm up; 0: the caps"),
-    "samples": ("-", "multisampling of the stroke layer: 1, 2, 4 (default) or 8; 1 is ~2.5x faster on a software renderer"),
-}
+PARAMETERS = {row["name"]: (row["unit"], row["doc"]) for row in SLOTS if row["kind"] != "bool"}
 
 
 class Scene(_core.SceneFeatures):

@@ -1,51 +1,58 @@
-// What a scene uses: the seed's rendering features, switched on one by one, and their thresholds.
+// What a scene uses (DESIGN "scene.py"): the seed's rendering features, switched on one by one,
+// and their settings, all written once in scene_slots().  Each feature off is neither computed on
+// the CPU nor compiled into the footprint shader (it becomes an absent #define).
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 namespace brushwork {
 
-// What a scene uses (DESIGN "scene.py").  Each feature off is neither computed on the CPU nor
-// compiled into the footprint shader (it becomes an absent #define).
+// The fields are documented, ranged and defaulted by their rows in scene_slots().
 struct SceneFeatures {
-  bool split_map = false;    // seed "Fine bristle effect": the tip parts into bristle groups
-  bool dry_map = false;      // seed "Dry brush": bristle-clump field thresholded by moisture,
-                             // speed and pressure
-  bool grain = false;        // seed "Grain texture": paper height field thresholded when dry
-  bool soaked_tip = false;   // seed "Soaked brush": tip expanded, split map dilated, drains
-  bool color_ramp = false;   // seed "Ink loading": colour gradient along the spine
-  bool depletion = false;    // ink subtracted from the brush (off: constant ink level)
+  SceneFeatures();  // every field at its row's default
 
-  // thresholds (dimensionless, wetness and pressure in [0, 1])
-  double dry_onset = 0.6;       // wetness below which the dry map starts to open streaks
-  double dry_pressure = 0.5;    // how much pressure closes the streaks again
-  double grain_onset = 0.4;     // wetness below which paper grain shows
-  double grain_pressure = 0.5;  // how much pressure presses ink into the grain's valleys
-  double grain_mm = 0.25;       // mm: the size of the paper grain's features (its lattice cell)
-  double streak_mm = 0.3;       // mm: the width of a bristle streak across the stroke (split
-                                // and dry fields; the dry field runs 50 of them along the stroke)
-  double dry_speed = 0.0;       // dryness added per mm of the footprint's travel per deposit
-  double soak_expand = 0.25;    // radial growth of the tip at full excess moisture (fraction)
-  double soak_shift = 0.35;     // split map scaled toward the tip at full excess moisture
-  double soak_drain_mm = 40.0;  // travel in contact over which excess moisture falls by 1/e
-  double capillary = 0.2;       // depletion: fraction of the way each node's wetness moves
-                                // toward the tuft's mean per frame (ink flows to the tip)
-  std::uint32_t seed = 1;       // procedural fields (split, dry, grain)
-  int mesh_rings = 6;           // rings per spine segment of the swept surface (at most)
-  int mesh_around = 48;         // vertices around one ring (at most)
-  double mesh_mm = 0.6;         // mm: the render mesh is as fine as this on the paper, no finer:
-                                // rings per segment and vertices around are chosen per brush
-                                // (longest segment and belly circumference over mesh_mm),
-                                // capped by the two above; the same at every output size from
-                                // 3 px to mesh_mm up (5 px/mm), which only samples the surface,
-                                // its edges kept at 3 px below.  0: always the caps.
-                                // `brushwork bench render` sweeps it (ink error against time)
-  int samples = 4;              // multisampling of the stroke layer: 1 (none), 2, 4 or 8 (the
-                                // device's maximum at most).  On a software rasteriser 4x is
-                                // ~2.5x the time of 1x; 1x loses the faint ink of footprints
-                                // thinner than a pixel (see Paper::samples)
+  // features (seed "Fine bristle effect", "Dry brush", "Grain texture", "Soaked brush",
+  // "Ink loading" twice)
+  bool split_map, dry_map, grain, soaked_tip, color_ramp, depletion;
+  // thresholds (dimensionless, wetness and pressure in [0, 1]) and sizes
+  double dry_onset, dry_pressure, grain_onset, grain_pressure, grain_mm, streak_mm, dry_speed;
+  double soak_expand, soak_shift, soak_drain_mm, capillary;
+  std::uint32_t seed;
+  // the render mesh and the stroke layer's multisampling
+  int mesh_rings, mesh_around;
+  double mesh_mm;
+  int samples;
 
   void validate() const;  // std::invalid_argument naming the field
 };
+
+// One row of the scene's table: a feature switch (kind "bool", with the #define that compiles it
+// into the footprint shader) or a setting (kind "float", "int" or "seed") with its unit, default and
+// range (lo excluded when open_low; 0 also allowed when zero_ok; a power of two when pow2),
+// `expected` being the range as a message says it (null: any value).  Exactly one member pointer
+// is set, the one of its kind.
+struct SceneSlot {
+  const char* name;
+  const char* unit;
+  const char* kind;
+  double value;  // the default
+  double lo, hi;
+  bool open_low, zero_ok, pow2;
+  const char* expected;
+  const char* define;  // features only ("" for a setting)
+  const char* doc;
+  bool SceneFeatures::*flag;
+  double SceneFeatures::*real;
+  int SceneFeatures::*count;
+  std::uint32_t SceneFeatures::*seed;
+};
+const std::vector<SceneSlot>& scene_slots();
+
+// the field of `slot` in `s`, as a double
+double scene_value(const SceneFeatures& s, const SceneSlot& slot);
+// the footprint shader's #defines for the features `s` switches on, in the table's order
+std::vector<std::string> scene_defines(const SceneFeatures& s);
 
 }  // namespace brushwork

@@ -14,13 +14,8 @@ namespace {
 
 // the footprint shader's #defines for the features `scene` uses, and for max blending
 std::vector<std::string> feature_defines(const SceneFeatures& scene, bool max_blend) {
-  const std::pair<bool, const char*> table[] = {
-      {scene.split_map, "USE_SPLIT"},    {scene.dry_map, "USE_DRY"},       {scene.grain, "USE_GRAIN"},
-      {scene.soaked_tip, "USE_SOAK"},    {scene.color_ramp, "USE_RAMP"},   {scene.depletion, "USE_DEPLETION"},
-      {max_blend, "USE_MAX_BLEND"}};
-  std::vector<std::string> defines;
-  for (const auto& [on, name] : table)
-    if (on) defines.push_back(name);
+  std::vector<std::string> defines = scene_defines(scene);
+  if (max_blend) defines.push_back("USE_MAX_BLEND");
   return defines;
 }
 

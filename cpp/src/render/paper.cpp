@@ -63,36 +63,6 @@ Rect intersect(const Rect& a, const Rect& b) {
 
 }  // namespace
 
-void SceneFeatures::validate() const {
-  constexpr double kAny = std::numeric_limits<double>::infinity();  // no upper bound
-  // each real setting: name, value, range (lo excluded when open_low), the range as a message says it
-  struct Range {
-    const char* name;
-    double v, lo, hi;
-    bool open_low;
-    const char* expected;
-  };
-  const Range ranges[] = {
-      {"scene.dry_onset", dry_onset, 0.0, 1.0, true, "0 < value <= 1"},
-      {"scene.grain_onset", grain_onset, 0.0, 1.0, true, "0 < value <= 1"},
-      {"scene.dry_pressure", dry_pressure, 0.0, 10.0, false, "0..10"},
-      {"scene.grain_pressure", grain_pressure, 0.0, 10.0, false, "0..10"},
-      {"scene.grain_mm", grain_mm, 0.0, kAny, true, "a finite positive number"},
-      {"scene.streak_mm", streak_mm, 0.0, kAny, true, "a finite positive number"},
-      {"scene.dry_speed", dry_speed, 0.0, 10.0, false, "0..10"},
-      {"scene.soak_drain_mm", soak_drain_mm, 0.0, kAny, true, "a finite positive number"},
-      {"scene.soak_expand", soak_expand, 0.0, 2.0, false, "0..2"},
-      {"scene.soak_shift", soak_shift, 0.0, 1.0, false, "0..1"},
-      {"scene.capillary", capillary, 0.0, 1.0, false, "0..1"}};
-  for (const Range& r : ranges) checks::in_range(r.name, r.v, r.lo, r.hi, r.open_low, r.expected);
-  checks::count_in_range("scene.mesh_rings", mesh_rings, 1, 64);
-  checks::count_in_range("scene.mesh_around", mesh_around, 8, 512);
-  if (!std::isfinite(mesh_mm) || (mesh_mm != 0.0 && (mesh_mm < 0.05 || mesh_mm > 10.0)))
-    throw std::invalid_argument("scene.mesh_mm = " + std::to_string(mesh_mm) + ": expected 0 or 0.05..10");
-  if (samples != 1 && samples != 2 && samples != 4 && samples != 8)
-    throw std::invalid_argument("scene.samples = " + std::to_string(samples) + ": expected 1, 2, 4 or 8");
-}
-
 Paper::Paper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
              int tile_px)
     : scene_(scene), width_mm_(width_mm), height_mm_(height_mm), ppm_(px_per_mm) {
