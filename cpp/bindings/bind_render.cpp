@@ -94,9 +94,7 @@ py::list scene_slot_dicts() {
   return rows;
 }
 
-}  // namespace
-
-void bind_render(py::module_& m) {
+void bind_context_scene(py::module_& m) {
   py::class_<RenderContext, std::shared_ptr<RenderContext>>(m, "RenderContext", R"doc(
 This thread's OpenGL context through EGL (shared by every Paper and BrushView the thread makes; each
 renders on the thread that made it). BRUSHWORK_RENDER = auto | gpu |
@@ -115,7 +113,9 @@ Its fields are the rows of scene_slots().)doc");
   for (const SceneSlot& slot : scene_slots()) bind_scene_field(scene, slot);
   m.def("scene_slots", &scene_slot_dicts, "the scene's table: one dict per field (name, unit, kind, "
         "default, lo, hi, expected, define, doc), features first");
+}
 
+void bind_ink_stats(py::module_& m) {
   py::class_<Ink>(m, "Ink", R"doc(
 Ink on one brush. ramp: (K, 4) straight RGBA root..tip; load, capacity: (n+1,) mm^2 of paper at
 full density per spine node (wetness = load / capacity); excess: soaked-tip moisture 0..1;
@@ -159,6 +159,9 @@ The footprint pass's plan from `last` (a brush at the last deposit; None: a stro
 last and this part), near_faces and faces (triangles drawn by the blends before t = 1 and at
 t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws.)doc");
 
+}
+
+void bind_paper(py::module_& m) {
   py::class_<Paper>(m, "Paper")
       .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),
            py::arg("height_mm"), py::arg("px_per_mm"), py::arg("scene") = SceneFeatures(),
@@ -221,7 +224,9 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
         if (a.ndim() != 2) throw std::invalid_argument("set_map: expected a 2-D grey-scale array");
         p.set_map(which, a.data(), static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)));
       }, py::arg("which"), py::arg("image"));
+}
 
+void bind_view(py::module_& m) {
   py::class_<ViewOptions>(m, "ViewOptions", R"doc(
 Brush view camera and style. mode: shaded | outlined | transparent; eye, target: mm; fov_deg: 0
 for orthographic (then ortho_height_mm is the height seen); light: direction toward the light.)doc")
@@ -247,5 +252,14 @@ for orthographic (then ortho_height_mm is the height seen); light: direction tow
         return a;
       }, py::arg("paper"), py::arg("brush"), py::arg("ink") = nullptr, py::arg("options") = ViewOptions(),
       "(H, W, 4) uint8 RGBA, row 0 at the top");
+}
+
+}  // namespace
+
+void bind_render(py::module_& m) {
+  bind_context_scene(m);
+  bind_ink_stats(m);
+  bind_paper(m);
+  bind_view(m);
   bind_depth(m);
 }

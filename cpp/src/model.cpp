@@ -30,8 +30,9 @@ ParamSlot B(const char* name, bool BrushModel::*p, const char* doc) {
   return ParamSlot{{name, "-", "bool", doc, 0.0, 1.0}, nullptr, nullptr, p};
 }
 
-const std::vector<ParamSlot>& slots() {
-  static const std::vector<ParamSlot> table = {
+// the tuft's shape (seed "Brush geometry")
+std::vector<ParamSlot> shape_slots() {
+  return {
       I("n_segments", "-", 2, kMaxSegments, &BrushModel::n_segments,
         "spine segments n; shorter toward the tip"),
       F("tuft_length", "mm", 1.0, 500.0, &BrushModel::tuft_length,
@@ -50,6 +51,12 @@ const std::vector<ParamSlot>& slots() {
         "r_lat / r_i: effective radius of a lateral node"),
       F("collision_shrink", "-", 0.05, 1.0, &BrushModel::collision_shrink,
         "size of the collision section Phi_i relative to Omega_i (1: no penetration)"),
+  };
+}
+
+// the springs, friction and plasticity (seed "Energy minimization problems")
+std::vector<ParamSlot> energy_slots() {
+  return {
       F("exponent", "-", 2.0, 3.0, &BrushModel::exponent,
         "m in the spring energies kappa |x|^m (2 or 3 in the seed)"),
       F("bend_stiffness", "N*mm/rad^m", 1e-6, 1e6, &BrushModel::bend_stiffness,
@@ -89,6 +96,12 @@ const std::vector<ParamSlot>& slots() {
       F("pore_c", "mm", 0.0, 1000.0, &BrushModel::pore_c, "c in the lead L = a t + b u + c"),
       F("pore_gamma", "deg", 0.0, 90.0, &BrushModel::pore_gamma,
         "critical tilt gamma within which the pores trap the tip"),
+  };
+}
+
+// the features switched off one by one, and the frame's solver
+std::vector<ParamSlot> solver_slots() {
+  return {
       B("lateral_spreading", &BrushModel::lateral_spreading,
         "stretch DOFs delta_i (off: no spreading, seed Figure 1c)"),
       B("collision", &BrushModel::collision,
@@ -103,6 +116,12 @@ const std::vector<ParamSlot>& slots() {
         "scaled KKT residual at which a frame's solve stops"),
       B("warm_hessian", &BrushModel::warm_hessian,
         "carry the BFGS matrix across frames (off: a fresh one each frame)"),
+  };
+}
+
+// multiple tufts (seed "Simulation with multiple tufts")
+std::vector<ParamSlot> tuft_slots() {
+  return {
       I("tufts", "-", 0, 8, &BrushModel::tufts,
         "child tufts T_j that sprout from the main tuft when it spreads (0: a single tuft)"),
       I("tuft_node", "-", 1, kMaxSegments - 1, &BrushModel::tuft_node,
@@ -125,6 +144,17 @@ const std::vector<ParamSlot>& slots() {
         "split into `tufts` evenly sized tufts rooted across the root's section, which replace the "
         "main tuft while split (off: `tufts` thin satellites on N_i beside the main tuft)"),
   };
+}
+
+std::vector<ParamSlot> make_slots() {
+  std::vector<ParamSlot> table = shape_slots();
+  for (const auto& rows : {energy_slots(), solver_slots(), tuft_slots()})
+    table.insert(table.end(), rows.begin(), rows.end());
+  return table;
+}
+
+const std::vector<ParamSlot>& slots() {
+  static const std::vector<ParamSlot> table = make_slots();
   return table;
 }
 
