@@ -6,28 +6,16 @@
 namespace brushwork {
 namespace {
 
-// glGen* and glDelete* of each kind
-template <GlKind K> struct GlCalls;
-template <> struct GlCalls<GlKind::texture> {
-  static void gen(GLuint* id) { gl::GenTextures(1, id); }
-  static void del(const GLuint* id) { gl::DeleteTextures(1, id); }
+// glGen* and glDelete* of each kind, in GlKind's order (entries of the GL table, loaded at run time)
+struct GlCalls {
+  void (**gen)(GLsizei, GLuint*);
+  void (**del)(GLsizei, const GLuint*);
 };
-template <> struct GlCalls<GlKind::framebuffer> {
-  static void gen(GLuint* id) { gl::GenFramebuffers(1, id); }
-  static void del(const GLuint* id) { gl::DeleteFramebuffers(1, id); }
-};
-template <> struct GlCalls<GlKind::renderbuffer> {
-  static void gen(GLuint* id) { gl::GenRenderbuffers(1, id); }
-  static void del(const GLuint* id) { gl::DeleteRenderbuffers(1, id); }
-};
-template <> struct GlCalls<GlKind::vertex_array> {
-  static void gen(GLuint* id) { gl::GenVertexArrays(1, id); }
-  static void del(const GLuint* id) { gl::DeleteVertexArrays(1, id); }
-};
-template <> struct GlCalls<GlKind::buffer> {
-  static void gen(GLuint* id) { gl::GenBuffers(1, id); }
-  static void del(const GLuint* id) { gl::DeleteBuffers(1, id); }
-};
+const GlCalls kCalls[] = {{&gl::GenTextures, &gl::DeleteTextures},
+                          {&gl::GenFramebuffers, &gl::DeleteFramebuffers},
+                          {&gl::GenRenderbuffers, &gl::DeleteRenderbuffers},
+                          {&gl::GenVertexArrays, &gl::DeleteVertexArrays},
+                          {&gl::GenBuffers, &gl::DeleteBuffers}};
 
 // the context is open and current on this thread (false: it took its objects along, or it
 // belongs to another thread, where deleting would be wrong)
@@ -45,7 +33,7 @@ bool usable(const RenderContext* ctx) {
 
 template <GlKind K>
 void GlName<K>::reset(const RenderContext* ctx, unsigned id) {
-  if (id_ && usable(ctx_)) GlCalls<K>::del(&id_);
+  if (id_ && usable(ctx_)) (*kCalls[static_cast<int>(K)].del)(1, &id_);
   ctx_ = ctx;
   id_ = id;
 }
@@ -53,7 +41,7 @@ void GlName<K>::reset(const RenderContext* ctx, unsigned id) {
 template <GlKind K>
 void GlName<K>::generate(const RenderContext* ctx) {
   GLuint id = 0;
-  GlCalls<K>::gen(&id);
+  (*kCalls[static_cast<int>(K)].gen)(1, &id);
   reset(ctx, id);
 }
 
