@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "brushwork/ink_geometry.hpp"
+#include "readback.hpp"
 
 namespace py = pybind11;
 using namespace brushwork;
@@ -57,7 +58,7 @@ vertices (V, 3) mm over faces (F, 3), as overlapping loops whose union is the re
 
 void bind_ink(py::module_& m) {
   bind_functions(m);
-  py::class_<VectorPaper>(m, "VectorPaper", R"doc(
+  bind_readbacks(py::class_<VectorPaper>(m, "VectorPaper", R"doc(
 A paper whose ink is geometry: strokes as contours in mm, unioned, rasterised with exact coverage on
 readback; no GL context. Opaque scenes only (no split, dry or grain map, soaked tip, colour ramp).)doc")
       .def(py::init<double, double, double, const SceneFeatures&, const SweepTolerance&>(), py::arg("width_mm"),
@@ -93,28 +94,5 @@ readback; no GL context. Opaque scenes only (no split, dry or grain map, soaked 
         d["union_s"] = p.union_seconds();
         d["raster_s"] = p.raster_seconds();
         return d;
-      }, "seconds: the deposits' sweeps (all so far), the last readback's union and raster")
-      .def("ink", [](VectorPaper& p) {
-        py::array_t<float> a({p.height_px(), p.width_px()});
-        float* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_ink(out);
-        return a;
-      }, "(H, W) float32 ink coverage in [0, 1], row 0 at the top of the paper")
-      .def("rgba", [](VectorPaper& p) {
-        py::array_t<float> a({p.height_px(), p.width_px(), 4});
-        float* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_rgba(out);
-        return a;
-      }, "(H, W, 4) float32 premultiplied RGBA, row 0 at the top")
-      .def("_image", [](VectorPaper& p, int bits, bool white, bool bgr) -> py::array {
-        const std::vector<py::ssize_t> shape{p.height_px(), p.width_px(), white ? 3 : 4};
-        py::array a = bits == 8 ? py::array(py::dtype::of<std::uint8_t>(), shape)
-                                : py::array(py::dtype::of<std::uint16_t>(), shape);
-        void* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_image(bits, white, bgr, out);
-        return a;
-      }, py::arg("bits"), py::arg("white"), py::arg("bgr"));
+      }, "seconds: the deposits' sweeps (all so far), the last readback's union and raster"));
 }

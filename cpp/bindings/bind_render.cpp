@@ -8,6 +8,7 @@
 
 #include "brushwork/depth.hpp"
 #include "brushwork/render.hpp"
+#include "readback.hpp"
 
 namespace py = pybind11;
 using namespace brushwork;
@@ -162,7 +163,7 @@ t = 1), shift_mm, travel_mm, rect (px x0, y0, x1, y1, y up, exclusive) and draws
 }
 
 void bind_paper(py::module_& m) {
-  py::class_<Paper>(m, "Paper")
+  bind_readbacks(py::class_<Paper>(m, "Paper")
       .def(py::init<double, double, double, const SceneFeatures&, int>(), py::arg("width_mm"),
            py::arg("height_mm"), py::arg("px_per_mm"), py::arg("scene") = SceneFeatures(),
            py::arg("tile_px") = 0, py::keep_alive<1, 5>(), py::call_guard<py::gil_scoped_release>())
@@ -187,31 +188,6 @@ void bind_paper(py::module_& m) {
       .def_property_readonly("scene", &Paper::scene)
       .def("mesh_options", &Paper::mesh_options, py::arg("model"),
            "the render mesh (rings per segment, around) a brush of this model gets on this paper")
-      .def("ink", [](Paper& p) {
-        py::array_t<float> a({p.height_px(), p.width_px()});
-        float* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_ink(out);
-        return a;
-      }, "(H, W) float32 ink coverage in [0, 1], row 0 at the top of the paper")
-      .def("rgba", [](Paper& p) {
-        py::array_t<float> a({p.height_px(), p.width_px(), 4});
-        float* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_rgba(out);
-        return a;
-      }, "(H, W, 4) float32 premultiplied RGBA, row 0 at the top")
-      .def("_image", [](Paper& p, int bits, bool white, bool bgr) -> py::array {
-        // (read_image checks bits; a wrong value gets a uint16 array it never fills)
-        const std::vector<py::ssize_t> shape{p.height_px(), p.width_px(), white ? 3 : 4};
-        py::array a = bits == 8 ? py::array(py::dtype::of<std::uint8_t>(), shape)
-                                : py::array(py::dtype::of<std::uint16_t>(), shape);
-        void* out = a.mutable_data();
-        py::gil_scoped_release nogil;
-        p.read_image(bits, white, bgr, out);
-        return a;
-      }, py::arg("bits"), py::arg("white"), py::arg("bgr"),
-      "(H, W, 3) ink over white or (H, W, 4) straight RGBA, uint8 or uint16, row 0 at the top")
       .def("set_rgba", [](Paper& p, const FloatImage& a) {
         if (a.ndim() != 3 || a.shape(0) != p.height_px() || a.shape(1) != p.width_px() || a.shape(2) != 4)
           throw std::invalid_argument("set_rgba: expected a (" + std::to_string(p.height_px()) + ", " +
@@ -223,7 +199,7 @@ void bind_paper(py::module_& m) {
       .def("set_map", [](Paper& p, const std::string& which, const FloatImage& a) {
         if (a.ndim() != 2) throw std::invalid_argument("set_map: expected a 2-D grey-scale array");
         p.set_map(which, a.data(), static_cast<int>(a.shape(0)), static_cast<int>(a.shape(1)));
-      }, py::arg("which"), py::arg("image"));
+      }, py::arg("which"), py::arg("image")));
 }
 
 void bind_view(py::module_& m) {
