@@ -157,3 +157,15 @@ def test_the_shipped_learned_styles_write_from_medians_alone(style, tmp_path):
     assert main(["render", "明", "--style", style, "--source", SOURCE, "--size", "256", "-o", str(png)]) == 0
     ink = cv2.imread(str(png), cv2.IMREAD_GRAYSCALE) < 128
     assert iou(ink, outline_mask(load_source(SOURCE, "明")["明"], 256)) > 0.6
+
+
+def test_a_learned_hand_hands_each_strokes_ink_to_the_caller_as_the_driver_does():
+    """The font's weight masters take each stroke's ink off the paper once it is written: a learned
+    hand calls on_stroke once a stroke, in order, with that stroke's ink alone on the paper."""
+    from brushwork.font.variable import stroke_images
+
+    glyph = load_source(SOURCE, "明")["明"]
+    images = stroke_images(glyph, 128, Style.load("kai-learned"))
+    assert len(images) == len(glyph.strokes)
+    inked = [int((np.asarray(im).min(axis=-1) < 128).sum()) for im in images]
+    assert all(n > 0 for n in inked), inked

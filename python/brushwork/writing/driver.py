@@ -317,13 +317,13 @@ class Writer:
             self.paper.deposit(self.brush)
             self.frames += 1
 
-    def write_planned(self, glyph, plan, origin_mm=(0.0, 0.0)) -> None:
+    def write_planned(self, glyph, plan, origin_mm=(0.0, 0.0), on_stroke=None) -> None:
         """The glyph written open-loop from its GlyphPlan (writing/plan.py), in the source's em box
-        with its bottom-left corner at `origin_mm`."""
+        with its bottom-left corner at `origin_mm`; on_stroke as in write."""
         from .planned import PlanWriter
 
         writer = PlanWriter(self.style, self.paper, self.brush, origin_mm)
-        writer.write(glyph, plan)
+        writer.write(glyph, plan, on_stroke)
         self.frames += writer.frames
 
     def write(self, glyph, origin_mm=(0.0, 0.0), on_stroke=None) -> None:
@@ -335,7 +335,7 @@ class Writer:
         if st.hand is not None:           # a learned hand: the plans from the medians alone
             from .hand import Hand
 
-            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st), origin_mm)
+            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st), origin_mm, on_stroke)
             return
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)

@@ -113,9 +113,13 @@ class PlanWriter:
         if finish:
             self._end()
 
-    def write(self, glyph, plan: GlyphPlan) -> None:
+    def write(self, glyph, plan: GlyphPlan, on_stroke=None) -> None:
+        """glyph's strokes from their plans, in order; on_stroke(k), when given, is called once
+        stroke k is written and ended on the sink."""
         if len(plan.strokes) != len(glyph.strokes):
             raise ValueError(f"{glyph.char}: {len(plan.strokes)} stroke plans for {len(glyph.strokes)} strokes")
         self.brush.load_ink(total_mm2=self.style.ink_mm2, excess=0.0)
-        for p, m in zip(plan.strokes, self.medians_mm(glyph)):
+        for k, (p, m) in enumerate(zip(plan.strokes, self.medians_mm(glyph))):
             self.write_stroke(p, m)
+            if on_stroke is not None:
+                on_stroke(k)
