@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "brushwork/brush.hpp"
 #include "brushwork/ink_geometry.hpp"
 #include "readback.hpp"
 
@@ -68,7 +69,7 @@ readback; no GL context. Opaque scenes only (no split, dry or grain map, soaked 
         DepositStats stats;
         {
           py::gil_scoped_release nogil;
-          stats = p.deposit(brush, ink);
+          stats = p.deposit(brush.frame(), ink);
           if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
         }
         return stats;

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "brushwork/brush.hpp"
 #include "brushwork/depth.hpp"
 #include "brushwork/render.hpp"
 #include "readback.hpp"
@@ -37,9 +38,9 @@ py::dict sweep_plan_dict(const Brush& brush, const Brush* last, double px_per_mm
   const MeshOptions opt =
       mesh_options_for(brush.model(), px_per_mm, scene.mesh_mm, scene.mesh_rings, scene.mesh_around);
   const double soak = scene.soaked_tip ? scene.soak_expand * excess : 0.0;
-  const SweepFrame cur = sweep_frame(brush, opt, soak);
+  const SweepFrame cur = sweep_frame(brush.sections(), opt, soak);
   SweepFrame from;
-  if (last != nullptr) from = sweep_frame(*last, opt, soak);
+  if (last != nullptr) from = sweep_frame(last->sections(), opt, soak);
   if (last != nullptr && from.position.size() != cur.position.size())
     throw std::invalid_argument("sweep_plan: the two brushes must be of one model");
   const SweepPlan plan = plan_sweep(last != nullptr ? &from : nullptr, cur, px_per_mm, width_px, height_px);
@@ -170,7 +171,7 @@ void bind_paper(py::module_& m) {
       .def("deposit", [](Paper& p, Brush& brush, Ink* ink) {
         // draw, then spend the brush's ink by what was drawn (other Python threads run meanwhile)
         py::gil_scoped_release nogil;
-        const DepositStats stats = p.deposit(brush, ink);
+        const DepositStats stats = p.deposit(brush.frame(), ink);
         if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
         return stats;
       }, py::arg("brush"), py::arg("ink") = nullptr)
@@ -224,7 +225,7 @@ for orthographic (then ortho_height_mm is the height seen); light: direction tow
         py::array_t<std::uint8_t> a({v.height_px(), v.width_px(), 4});
         std::uint8_t* out = a.mutable_data();
         py::gil_scoped_release nogil;
-        v.render(paper, brush, ink, o, out);
+        v.render(paper, brush.frame(), ink, o, out);
         return a;
       }, py::arg("paper"), py::arg("brush"), py::arg("ink") = nullptr, py::arg("options") = ViewOptions(),
       "(H, W, 4) uint8 RGBA, row 0 at the top");

@@ -3,6 +3,7 @@
 // BFGS) and step.cpp (continuation sub-steps).
 #include "brushwork/brush.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -156,6 +157,35 @@ void Brush::set_state(const BrushState& s) {
   state_ = s;
   state_.children.clear();
   kinematics(tuft_, state_, state_.x, ws_);
+}
+
+Brush::Identity::Identity() {
+  static std::atomic<std::uint64_t> next{1};
+  value = next++;
+}
+
+TuftFrame Brush::tuft_frame(int index) const {
+  const Brush& t = index == 0 ? *this : children_[index - 1];
+  TuftFrame f;
+  f.tuft = index;
+  f.sections = t.sections();
+  f.root = t.ws_.O[0];
+  f.wetness = t.state_.wetness;
+  f.segment_mm = t.tuft_.model.segment_lengths().maxCoeff();
+  f.belly_mm = t.tuft_.model.belly_radius;
+  if (t.state_.ink.loaded()) f.ramp = t.state_.ink.ramp;
+  return f;
+}
+
+BrushFrame Brush::frame() const {
+  BrushFrame f;
+  f.brush = id();
+  f.nodes = tuft_.n + 1;
+  f.pressure = node_pressure(sections());
+  // even tufts replace this one while split (as in tufts())
+  if (!(tuft_.model.even_tufts && state_.tufts_active > 0)) f.tufts.push_back(tuft_frame(0));
+  for (int j = 0; j < state_.tufts_active; ++j) f.tufts.push_back(tuft_frame(j + 1));
+  return f;
 }
 
 std::vector<const Brush*> Brush::tufts() const {

@@ -23,6 +23,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -30,10 +31,9 @@
 #include "brushwork/model.hpp"
 #include "brushwork/state.hpp"
 #include "brushwork/step.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork {
-
-using Loops = std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>;
 
 class Brush {
  public:
@@ -64,6 +64,12 @@ class Brush {
   // model().split_model()); while even tufts replace this one, those alone
   std::vector<const Brush*> tufts() const;
   int tufts_active() const { return state_.tufts_active; }
+  // what a paper takes of the brush now: each tuft of tufts() as geometry and wetness, this
+  // tuft's node pressure, and the brush's identity
+  BrushFrame frame() const;
+  // the brush's identity, kept by assignment (a brush that becomes a copy of another is still
+  // itself on the paper) and new in every brush constructed or copy-constructed
+  std::uint64_t id() const { return id_.value; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
   // mm, the lowest point of every sprouted tuft's sections Omega_1..Omega_n above the paper
   double clearance() const;
@@ -106,6 +112,15 @@ class Brush {
   void hang_children(int node);
   // the node the split tufts sprout from: N_0 for even tufts, else N_{tuft_node}
   int sprout_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
+  TuftFrame tuft_frame(int index) const;  // this tuft (index 0) or child index - 1
+
+  struct Identity {
+    std::uint64_t value;
+    Identity();
+    Identity(const Identity&) : Identity() {}
+    Identity& operator=(const Identity&) { return *this; }
+  };
+  Identity id_;
 
   Tuft tuft_;
   BrushState state_;

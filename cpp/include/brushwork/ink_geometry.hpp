@@ -15,8 +15,8 @@
 #include <memory>
 #include <vector>
 
-#include "brushwork/brush.hpp"
 #include "brushwork/render.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork {
 
@@ -56,7 +56,7 @@ class VectorPaper {
   VectorPaper(const VectorPaper&) = delete;
   VectorPaper& operator=(const VectorPaper&) = delete;
 
-  DepositStats deposit(const Brush& brush, const Ink* ink);
+  DepositStats deposit(const BrushFrame& brush, const Ink* ink);
   void end_stroke();
   bool undo();
   void clear();
@@ -86,11 +86,11 @@ class VectorPaper {
  private:
   struct Stroke;
   struct Layer;
-  void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
+  void check_deposit(const BrushFrame& brush, const Ink* ink) const;  // std::invalid_argument
   // a new stroke (starts) or the open one, in the ink's colour
   void open_stroke(const Ink* ink, bool starts, DepositStats& stats);
   // tuft k's region since `last` (null: it starts here) into the open stroke; its ink spent
-  void deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
+  void deposit_tuft(const TuftFrame& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
                     DepositStats& stats);
   void flush_stroke();
   std::vector<Layer> layers();  // consecutive strokes of one colour and density, unioned
@@ -103,9 +103,9 @@ class VectorPaper {
   std::vector<Stroke> strokes_;
   std::unique_ptr<Stroke> open_;           // the stroke being written
   bool stroke_open_ = false;
-  const Brush* last_brush_ = nullptr;
+  std::uint64_t last_brush_ = 0;            // the brush of the last deposit (BrushFrame::brush; 0: none)
   std::vector<SurfaceMesh> last_;           // each tuft's mesh at the last deposit
-  std::vector<const Brush*> last_tufts_;
+  std::vector<int> last_tufts_;             // the tuft each of last_ belongs to (TuftFrame::tuft)
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};
   struct Wet;
   std::unique_ptr<Wet> wet_;

@@ -11,7 +11,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "brushwork/brush.hpp"
+#include "brushwork/model.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork {
 
@@ -52,9 +53,12 @@ struct SweepPlan {
 // (0: always the caps), at most `rings` rings per spine segment and `around` vertices around;
 // the same on any paper of 3 px to mesh_mm or finer, coarser only below
 MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double mesh_mm, int rings, int around);
+// the same for a tuft of that longest segment and belly radius (mm)
+MeshOptions mesh_options_for(double segment_mm, double belly_mm, double px_per_mm, double mesh_mm, int rings,
+                             int around);
 
-// the brush's surface as the footprint pass draws it, the tip grown by `soak`
-SweepFrame sweep_frame(const Brush& brush, const MeshOptions& opt, double soak);
+// a tuft's surface (its sections swept) as the footprint pass draws it, the tip grown by `soak`
+SweepFrame sweep_frame(const std::vector<Section>& sections, const MeshOptions& opt, double soak);
 
 // the depth-weighted sum over the part of a surface below the paper: w the sum of -z (0 when
 // nothing is below), (x, y) the sums of -z x and -z y (mm); the centre is (x / w, y / w)

@@ -3,7 +3,7 @@
 
 #include <polyclipping/clipper.hpp>
 
-#include "brushwork/brush.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork::clip {
 

@@ -9,7 +9,6 @@
 
 #include "../render/checks.hpp"
 #include "../render/pixels.hpp"
-#include "../render/render_mesh.hpp"
 #include "../render/wet_area.hpp"
 #include "brushwork/ink_geometry.hpp"
 #include "clip.hpp"
@@ -34,8 +33,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 // the brush's surface as the sweep takes it: each ring moved out from its centre so that the
 // polygon of A vertices has its section's area (as sweep_frame does for the footprint pass)
-SurfaceMesh sweep_mesh(const Brush& tuft, const MeshOptions& opt) {
-  SurfaceMesh m = tuft.surface_mesh(opt);
+SurfaceMesh sweep_mesh(const TuftFrame& tuft, const MeshOptions& opt) {
+  SurfaceMesh m = sweep_surface(tuft.sections, opt);
   const int A = opt.around;
   const int NR = static_cast<int>((m.vertices.rows() - 2) / A);
   const double k = std::sqrt(2.0 * 3.14159265358979323846 / (A * std::sin(2.0 * 3.14159265358979323846 / A)));
@@ -109,8 +108,8 @@ MeshOptions VectorPaper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, kResolutionFree, kMeshMm, kMeshRings, kMeshAround);
 }
 
-void VectorPaper::check_deposit(const Brush& brush, const Ink* ink) const {
-  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
+void VectorPaper::check_deposit(const BrushFrame& brush, const Ink* ink) const {
+  if (ink != nullptr) ink->validate(brush.nodes);
   if (scene_.depletion && ink == nullptr)
     throw std::invalid_argument("this scene depletes ink: pass the brush's Ink to deposit()");
 }
@@ -131,7 +130,7 @@ void VectorPaper::open_stroke(const Ink* ink, bool starts, DepositStats& stats) 
   stroke_color_ = color;
 }
 
-void VectorPaper::deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
+void VectorPaper::deposit_tuft(const TuftFrame& tuft, const SurfaceMesh* last, const SurfaceMesh& cur, std::size_t k,
                                DepositStats& stats) {
   // the region swept since the last deposit (a still footprint when the tuft starts here), at
   // the density its wetness gives
@@ -147,14 +146,15 @@ void VectorPaper::deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const
   if (scene_.depletion) stats.deposited += wet_->ledger.add(tuft, last != nullptr, k, density * stroke_color_[3]);
 }
 
-DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
+DepositStats VectorPaper::deposit(const BrushFrame& brush, const Ink* ink) {
   check_deposit(brush, ink);
   const auto t0 = std::chrono::steady_clock::now();
   DepositStats stats;
-  const std::vector<const Brush*> tufts = brush.tufts();
+  const std::vector<TuftFrame>& tufts = brush.tufts;
   std::vector<SurfaceMesh> cur;
-  for (const Brush* t : tufts) {
-    cur.push_back(sweep_mesh(*t, mesh_options(t->model())));
+  for (const TuftFrame& t : tufts) {
+    cur.push_back(sweep_mesh(t, mesh_options_for(t.segment_mm, t.belly_mm, kResolutionFree, kMeshMm, kMeshRings,
+                                                 kMeshAround)));
     stats.contact = stats.contact || below_paper(cur.back());
   }
   if (!stats.contact) {
@@ -162,19 +162,20 @@ DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
     return stats;
   }
   // each tuft sweeps from its own last deposit while the stroke goes on and it was there
-  const bool same = stroke_open_ && last_brush_ == &brush;
+  const bool same = stroke_open_ && last_brush_ == brush.brush;
   auto last = [&](std::size_t k) -> const SurfaceMesh* {
-    const bool was = same && k < last_.size() && last_tufts_[k] == tufts[k] &&
+    const bool was = same && k < last_.size() && last_tufts_[k] == tufts[k].tuft &&
                      last_[k].vertices.rows() == cur[k].vertices.rows();
     return was ? &last_[k] : nullptr;
   };
   open_stroke(ink, last(0) == nullptr, stats);
-  for (std::size_t k = 0; k < tufts.size(); ++k) deposit_tuft(*tufts[k], last(k), cur[k], k, stats);
-  if (stats.drawn) stats.pressure = node_pressure(brush);
+  for (std::size_t k = 0; k < tufts.size(); ++k) deposit_tuft(tufts[k], last(k), cur[k], k, stats);
+  if (stats.drawn) stats.pressure = brush.pressure;
   stroke_open_ = true;
-  last_brush_ = &brush;
+  last_brush_ = brush.brush;
   last_ = std::move(cur);
-  last_tufts_ = tufts;
+  last_tufts_.clear();
+  for (const TuftFrame& t : tufts) last_tufts_.push_back(t.tuft);
   sweep_s_ += seconds_since(t0);
   return stats;
 }
@@ -182,7 +183,7 @@ DepositStats VectorPaper::deposit(const Brush& brush, const Ink* ink) {
 void VectorPaper::end_stroke() {
   flush_stroke();
   stroke_open_ = false;
-  last_brush_ = nullptr;
+  last_brush_ = 0;
 }
 
 void VectorPaper::flush_stroke() {
@@ -203,7 +204,7 @@ bool VectorPaper::undo() {
   if (strokes_.empty()) return false;
   strokes_.pop_back();
   stroke_open_ = false;
-  last_brush_ = nullptr;
+  last_brush_ = 0;
   wet_->ledger.clear();
   return true;
 }
@@ -212,7 +213,7 @@ void VectorPaper::clear() {
   strokes_.clear();
   open_.reset();
   stroke_open_ = false;
-  last_brush_ = nullptr;
+  last_brush_ = 0;
   last_.clear();
   last_tufts_.clear();
   wet_->ledger.clear();

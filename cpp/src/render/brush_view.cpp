@@ -177,12 +177,12 @@ void BrushView::draw_paper(const std::vector<Paper::TileRef>& tiles, double ppm,
   gl::ActiveTexture(GL_TEXTURE0);
 }
 
-int BrushView::upload_tuft(const Brush& brush, const Ink* ink) {
+int BrushView::upload_tuft(const TuftFrame& tuft, const std::vector<std::array<float, 4>>* ramp_in) {
   // the tuft: positions, normals, uv; its ink's colours along the spine in the ramp texture
   MeshOptions opt;
   opt.rings_per_segment = kViewRings;
   opt.around = kViewAround;
-  const RenderMesh mesh = build_render_mesh(brush, opt);
+  const RenderMesh mesh = build_render_mesh(tuft.sections, opt);
   const int V = mesh.vertices();
   const std::vector<float> vb =
       glu::interleave(V, {{mesh.position.data(), 3}, {mesh.normal.data(), 3}, {mesh.uv.data(), 2}});
@@ -193,7 +193,7 @@ int BrushView::upload_tuft(const Brush& brush, const Ink* ink) {
   gl::BindBuffer(GL_ELEMENT_ARRAY_BUFFER, ibo_);
   gl::BufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.faces.size() * sizeof(std::uint32_t)),
                  mesh.faces.data(), GL_STREAM_DRAW);
-  std::vector<std::array<float, 4>> ramp = ink != nullptr ? ink->ramp : std::vector<std::array<float, 4>>{{0, 0, 0, 1}};
+  std::vector<std::array<float, 4>> ramp = ramp_in != nullptr ? *ramp_in : std::vector<std::array<float, 4>>{{0, 0, 0, 1}};
   gl::ActiveTexture(GL_TEXTURE0);
   gl::BindTexture(GL_TEXTURE_2D, ramp_tex_);
   gl::TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, static_cast<GLsizei>(ramp.size()), 1, 0, GL_RGBA, GL_FLOAT, ramp.data());
@@ -273,10 +273,10 @@ void BrushView::read_back(std::uint8_t* out) {
     std::copy_n(&buf[4 * static_cast<std::size_t>(j) * W_], 4 * W_, out + 4 * static_cast<std::size_t>(H_ - 1 - j) * W_);
 }
 
-void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
+void BrushView::render(Paper* paper, const BrushFrame& brush, const Ink* ink, const ViewOptions& o,
                        std::uint8_t* out) {
   o.validate();
-  if (ink != nullptr) ink->validate(brush.model().n_segments + 1);
+  if (ink != nullptr) ink->validate(brush.nodes);
   ctx_->make_current();
   // paper tiles first: they flush nothing, but may resolve the stroke in progress
   const auto tiles = paper != nullptr ? paper->tile_textures() : std::vector<Paper::TileRef>{};
@@ -295,9 +295,10 @@ void BrushView::render(Paper* paper, const Brush& brush, const Ink* ink, const V
   gl::DepthFunc(GL_LEQUAL);
   if (paper != nullptr) draw_paper(tiles, paper->px_per_mm(), mvp.data());
   // every tuft of a split brush, the main tuft first; each child's ink is its own
-  for (const Brush* t : brush.tufts()) {
-    const Ink* tuft_ink = t == &brush ? ink : (ink != nullptr && t->ink().loaded() ? &t->ink() : nullptr);
-    const int n_idx = upload_tuft(*t, tuft_ink);
+  for (const TuftFrame& t : brush.tufts) {
+    const std::vector<std::array<float, 4>>* ramp =
+        ink == nullptr ? nullptr : t.tuft == 0 ? &ink->ramp : !t.ramp.empty() ? &t.ramp : nullptr;
+    const int n_idx = upload_tuft(t, ramp);
     draw_tuft(o, o.shadow && paper != nullptr, n_idx, dist, mvp.data());
   }
   gl::Disable(GL_DEPTH_TEST);

@@ -5,9 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include "brushwork/brush.hpp"
 #include "brushwork/render.hpp"
 #include "checks.hpp"
-#include "render_mesh.hpp"
 
 namespace brushwork {
 
@@ -97,14 +97,14 @@ void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, 
   if (scene.soaked_tip && stats.contact) ink.excess *= std::exp(-stats.travel / scene.soak_drain_mm);
 }
 
-double ink_density(const Brush& tuft) {
+double ink_density(const TuftFrame& tuft) {
   // the ink reaches the paper at full density while some node that touches it holds a tenth of
   // its load, then fades with the wettest one (a drying brush breaks up through the dry map
   // first, and greys only when nearly empty)
-  const std::vector<float> p = node_pressure(tuft);
+  const std::vector<float> p = node_pressure(tuft.sections);
   double touching = 0.0, all = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    const double d = std::clamp(10.0 * tuft.wetness()[static_cast<Eigen::Index>(i)], 0.0, 1.0);
+    const double d = std::clamp(10.0 * tuft.wetness[static_cast<Eigen::Index>(i)], 0.0, 1.0);
     all = std::max(all, d);
     if (p[i] > 0.0f) touching = std::max(touching, d);
   }

@@ -13,7 +13,6 @@
 #include "checks.hpp"
 #include "footprint_pass.hpp"
 #include "gl_util.hpp"
-#include "render_mesh.hpp"
 #include "shaders.hpp"
 #include "stroke_frame.hpp"
 #include "pixels.hpp"
@@ -227,8 +226,8 @@ MeshOptions Paper::mesh_options(const BrushModel& model) const {
   return mesh_options_for(model, ppm_, scene_.mesh_mm, scene_.mesh_rings, scene_.mesh_around);
 }
 
-void Paper::check_deposit(const Brush& brush, const Ink* ink) const {
-  const int nodes = brush.model().n_segments + 1;
+void Paper::check_deposit(const BrushFrame& brush, const Ink* ink) const {
+  const int nodes = brush.nodes;
   if (nodes > kMaxNodes)
     throw std::invalid_argument("the renderer supports at most " + std::to_string(kMaxNodes - 1) + " spine segments");
   if (ink != nullptr) ink->validate(nodes);
@@ -253,13 +252,15 @@ struct TuftSweeps {
   bool contact = false;
 };
 
-TuftSweeps plan_tufts(const Paper& paper, const std::vector<const Brush*>& tufts,
-                      const std::vector<SweepFrame>& last, const std::vector<const Brush*>& was, bool same,
-                      double soak) {
+TuftSweeps plan_tufts(const Paper& paper, const std::vector<TuftFrame>& tufts,
+                      const std::vector<SweepFrame>& last, const std::vector<int>& was, bool same, double soak) {
   TuftSweeps t;
+  const SceneFeatures& scene = paper.scene();
   for (std::size_t k = 0; k < tufts.size(); ++k) {
-    t.cur.push_back(sweep_frame(*tufts[k], paper.mesh_options(tufts[k]->model()), soak));
-    t.swept.push_back(same && k < last.size() && was[k] == tufts[k] &&
+    const MeshOptions opt = mesh_options_for(tufts[k].segment_mm, tufts[k].belly_mm, paper.px_per_mm(),
+                                             scene.mesh_mm, scene.mesh_rings, scene.mesh_around);
+    t.cur.push_back(sweep_frame(tufts[k].sections, opt, soak));
+    t.swept.push_back(same && k < last.size() && was[k] == tufts[k].tuft &&
                       last[k].position.size() == t.cur[k].position.size());
     t.plans.push_back(plan_sweep(t.swept[k] ? &last[k] : nullptr, t.cur[k], paper.px_per_mm(),
                                  paper.width_px(), paper.height_px(),
@@ -281,13 +282,13 @@ void plan_stats(const std::vector<SweepPlan>& plans, DepositStats& stats) {
 
 }  // namespace
 
-DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
+DepositStats Paper::deposit(const BrushFrame& brush, const Ink* ink) {
   ctx_->make_current();
   check_deposit(brush, ink);
   DepositStats stats;
   const double excess = (scene_.soaked_tip && ink != nullptr) ? ink->excess : 0.0;
-  const std::vector<const Brush*> tufts = brush.tufts();
-  TuftSweeps t = plan_tufts(*this, tufts, last_, last_tufts_, stroke_open_ && last_brush_ == &brush,
+  const std::vector<TuftFrame>& tufts = brush.tufts;
+  TuftSweeps t = plan_tufts(*this, tufts, last_, last_tufts_, stroke_open_ && last_brush_ == brush.brush,
                             scene_.soak_expand * excess);
   stats.contact = t.contact;
   if (!stats.contact) {
@@ -308,14 +309,15 @@ DepositStats Paper::deposit(const Brush& brush, const Ink* ink) {
   plan_stats(t.plans, stats);
   for (std::size_t k = 0; k < tufts.size(); ++k)
     if (t.plans[k].draws())
-      deposit_tuft(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], t.swept[k], *tufts[k], ink, excess, k,
+      deposit_tuft(t.plans[k], t.swept[k] ? last_[k] : t.cur[k], t.cur[k], t.swept[k], tufts[k], ink, excess, k,
                    stats);
   // the ink leaves the main tuft's nodes (spend_ink) by its pressure, whichever tuft drew
-  if (stats.drawn && stats.pressure.empty()) stats.pressure = node_pressure(brush);
+  if (stats.drawn && stats.pressure.empty()) stats.pressure = brush.pressure;
   stroke_open_ = true;
-  last_brush_ = &brush;
+  last_brush_ = brush.brush;
   last_ = std::move(t.cur);
-  last_tufts_ = tufts;
+  last_tufts_.clear();
+  for (const TuftFrame& f : tufts) last_tufts_.push_back(f.tuft);
   return stats;
 }
 
@@ -328,13 +330,13 @@ void Paper::set_stroke_color(const Ink* ink) {
 }
 
 void Paper::deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, bool swept,
-                         const Brush& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats) {
+                         const TuftFrame& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats) {
   const double density = scene_.depletion ? ink_density(tuft) : 1.0;
   const double cover = draw_plan(plan, last, cur, tuft, ink, excess, density, k, stats);
   if (scene_.depletion) stats.deposited += wet_gain(tuft, swept, k, density * cover);
 }
 
-double Paper::wet_gain(const Brush& tuft, bool swept, std::size_t k, double density) {
+double Paper::wet_gain(const TuftFrame& tuft, bool swept, std::size_t k, double density) {
   // what tuft k gave the paper, at the density the footprint pass drew with (and the ink's alpha)
   return wet_->add(tuft, swept, k, density * stroke_color_[3]);
 }
@@ -347,13 +349,13 @@ void Paper::start_frames(const std::vector<bool>& swept) {
   }
 }
 
-double Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
+double Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const TuftFrame& tuft,
                       const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats) {
   FootprintInputs in;
   in.density = density;
-  in.pressure = node_pressure(brush);
+  in.pressure = node_pressure(tuft.sections);
   in.wet.resize(in.pressure.size());
-  for (std::size_t i = 0; i < in.wet.size(); ++i) in.wet[i] = static_cast<float>(std::clamp(brush.wetness()[i], 0.0, 1.0));
+  for (std::size_t i = 0; i < in.wet.size(); ++i) in.wet[i] = static_cast<float>(std::clamp(tuft.wetness[i], 0.0, 1.0));
   in.color = stroke_color_;
   in.ramp = (scene_.color_ramp && ink != nullptr) ? &ink->ramp : nullptr;
   in.soak = cur.soak;
@@ -361,8 +363,7 @@ double Paper::draw_plan(const SweepPlan& plan, const SweepFrame& last, const Swe
   in.maps = {split_tex_, dry_tex_, grain_tex_, ramp_tex_};
   in.seed = scene_.seed + static_cast<std::uint32_t>(k) * kTuftSeedStride;
   StrokeFrame& frame = *frames_[k];
-  const auto root = brush.skeleton();
-  frame.advance(cur.placed, root(0, 0), root(0, 1));
+  frame.advance(cur.placed, tuft.root.x(), tuft.root.y());
   in.frame = {static_cast<float>(frame.cx), static_cast<float>(frame.cy), static_cast<float>(frame.dx),
               static_cast<float>(frame.dy)};
   in.frame_s = frame.s;
@@ -386,7 +387,7 @@ void Paper::end_stroke() {
     flush_stroke();
   }
   stroke_open_ = false;
-  last_brush_ = nullptr;
+  last_brush_ = 0;
 }
 
 void Paper::flush_stroke() {
@@ -457,7 +458,7 @@ bool Paper::undo() {
     wet_->clear();
     stroke_pending_ = false;
     stroke_open_ = false;
-    last_brush_ = nullptr;
+    last_brush_ = 0;
     stroke_rect_ = {0, 0, 0, 0};
     return true;
   }
@@ -494,7 +495,7 @@ void Paper::clear() {
     }
   }
   stroke_open_ = stroke_pending_ = undo_available_ = false;
-  last_brush_ = nullptr;
+  last_brush_ = 0;
   stroke_rect_ = {0, 0, 0, 0};
   undo_pixels_.clear();
   wet_->clear();

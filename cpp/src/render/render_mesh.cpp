@@ -9,10 +9,7 @@ namespace brushwork {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr float kMinNormal = 1e-20f;  // mm^2: a summed normal this short has no direction (up is used)
-constexpr int kPressureSamples = 32;  // points around a section where its lowest point is looked for
-constexpr double kMinMinorRadius = 1e-3;  // mm: the least minor radius c a node's pressure is taken over
 
 // The render layout's uv and faces depend on the ring count, the vertices around and the winding
 // alone, not on the rest of the pose: the footprint pass builds a mesh every frame, so they are
@@ -80,8 +77,8 @@ const Topology& topology(const SurfaceMesh& m, int NR, int A) {
 
 }  // namespace
 
-RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals) {
-  const SurfaceMesh m = brush.surface_mesh(opt);
+RenderMesh build_render_mesh(const std::vector<Section>& sections, const MeshOptions& opt, bool with_normals) {
+  const SurfaceMesh m = sweep_surface(sections, opt);
   const int A = opt.around;
   const int V = static_cast<int>(m.vertices.rows());
   const int NR = (V - 2) / A;  // rings: n * rings_per_segment + 1
@@ -142,25 +139,6 @@ RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool wi
     else nv = Eigen::Vector3f::UnitZ();
   }
   return r;
-}
-
-std::vector<float> node_pressure(const Brush& brush) {
-  const auto secs = brush.sections();
-  std::vector<float> p(secs.size(), 0.0f);
-  for (std::size_t i = 0; i < secs.size(); ++i) {
-    const Section& s = secs[i];
-    // lowest point of the two half ellipses, sampled around
-    double zmin = s.center.z();
-    for (int k = 0; k < kPressureSamples; ++k) {
-      const double t = 2.0 * kPi * k / kPressureSamples;
-      const double ct = std::cos(t), st = std::sin(t);
-      const double z = s.center.z() + (ct >= 0 ? s.a_plus : s.a_minus) * ct * s.u.z() +
-                       s.c * st * s.w.z();
-      zmin = std::min(zmin, z);
-    }
-    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, kMinMinorRadius), 0.0, 1.0));
-  }
-  return p;
 }
 
 }  // namespace brushwork

@@ -1,4 +1,4 @@
-// The brush's swept surface re-laid for the GPU: rings of `around + 1` vertices (the first
+// A tuft's swept surface (its sections Omega_0..Omega_n swept) re-laid for the GPU: rings of `around + 1` vertices (the first
 // column repeated at around = 1 so that textures do not wrap backwards across the seam), the
 // root cap and the tip apex, with the core's outward CCW triangles re-indexed.
 #pragma once
@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "brushwork/brush.hpp"
+#include "brushwork/geometry.hpp"
 
 namespace brushwork {
 
@@ -21,10 +21,6 @@ struct RenderMesh {
 
 // with_normals = false leaves `normal` empty (the footprint pass needs none; they cost about
 // as much as the re-layout itself)
-RenderMesh build_render_mesh(const Brush& brush, const MeshOptions& opt, bool with_normals = true);
-
-// pressure per spine node in [0, 1]: how deep the lowest point of Omega_i lies below the paper,
-// in units of its minor radius c_i (seed "Dry brush": the threshold varies with node pressure)
-std::vector<float> node_pressure(const Brush& brush);
+RenderMesh build_render_mesh(const std::vector<Section>& sections, const MeshOptions& opt, bool with_normals = true);
 
 }  // namespace brushwork

@@ -334,6 +334,11 @@ void count_copies(SweepPlan& plan, const std::vector<double>& pp, const std::vec
 }  // namespace
 
 MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double mesh_mm, int rings, int around) {
+  return mesh_options_for(model.segment_lengths().maxCoeff(), model.belly_radius, px_per_mm, mesh_mm, rings, around);
+}
+
+MeshOptions mesh_options_for(double segment_mm, double belly_mm, double px_per_mm, double mesh_mm, int rings,
+                             int around) {
   // a software rasteriser pays per triangle more than per pixel: a footprint drawn from 48 x 6
   // rings' 3-4 px triangles costs ~3x what 6 px ones do.  So the mesh is made only as fine as
   // mesh_mm: the longest spine segment and the belly's circumference 2 pi r (the widest ring,
@@ -354,16 +359,15 @@ MeshOptions mesh_options_for(const BrushModel& model, double px_per_mm, double m
   opt.around = around;
   if (mesh_mm > 0.0) {
     mesh_mm = std::max(mesh_mm, kMeshMinPx / px_per_mm);
-    const double seg_mm = model.segment_lengths().maxCoeff();
-    const double ring_mm = 2.0 * kPi * model.belly_radius;
-    opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(seg_mm / mesh_mm)), 1, rings);
+    const double ring_mm = 2.0 * kPi * belly_mm;
+    opt.rings_per_segment = std::clamp(static_cast<int>(std::ceil(segment_mm / mesh_mm)), 1, rings);
     opt.around = std::clamp(4 * static_cast<int>(std::ceil(ring_mm / mesh_mm / 4.0)), 8, around);
   }
   return opt;
 }
 
-SweepFrame sweep_frame(const Brush& brush, const MeshOptions& opt, double soak) {
-  RenderMesh m = build_render_mesh(brush, opt, false);
+SweepFrame sweep_frame(const std::vector<Section>& sections, const MeshOptions& opt, double soak) {
+  RenderMesh m = build_render_mesh(sections, opt, false);
   // a ring of A vertices is a polygon inscribed in its section: its area falls short by the
   // factor A sin(2 pi / A) / (2 pi) (1.1% at A = 24), and so would the ink.  Each vertex is
   // moved out from its ring's centre by the square root of the inverse, so that the polygon

@@ -88,8 +88,8 @@ void WetLedger::clear() {
   last_.clear();
 }
 
-double WetLedger::add(const Brush& tuft, bool swept, std::size_t k, double density) {
-  const Loops loops = tuft.own_footprint(MeshOptions{});
+double WetLedger::add(const TuftFrame& tuft, bool swept, std::size_t k, double density) {
+  const Loops loops = own_footprint(tuft);
   const FootprintSpan span = footprint_span(loops, 0.0);
   last_.resize(std::max(last_.size(), k + 1));
   Footprint& last = last_[k];

@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "brushwork/brush.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork {
 
@@ -49,7 +49,7 @@ class WetLedger {
   // tuft k's footprint now (the core's loops at the core's own mesh, whatever the paper's
   // resolution) and the band from its last one (`swept`: the tuft was there at the last deposit)
   // newly wetted at `density` (times the ink's alpha); mm^2 of full-density ink gained
-  double add(const Brush& tuft, bool swept, std::size_t k, double density);
+  double add(const TuftFrame& tuft, bool swept, std::size_t k, double density);
 
  private:
   struct Footprint {

@@ -5,8 +5,9 @@
 #include <array>
 #include <vector>
 
-#include "brushwork/brush.hpp"
 #include "brushwork/scene.hpp"
+#include "brushwork/state.hpp"
+#include "brushwork/tuft_frame.hpp"
 
 namespace brushwork {
 
@@ -31,6 +32,6 @@ struct DepositStats {
 void spend_ink(const DepositStats& stats, const SceneFeatures& scene, Ink& ink, Brush& brush);
 
 // depletion: the density in [0, 1] a tuft's footprint reaches the paper at, from its nodes' wetness
-double ink_density(const Brush& tuft);
+double ink_density(const TuftFrame& tuft);
 
 }  // namespace brushwork

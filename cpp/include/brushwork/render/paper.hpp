@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "brushwork/brush.hpp"
+#include "brushwork/model.hpp"
 #include "brushwork/render/context.hpp"
 #include "brushwork/render/deposit.hpp"
 #include "brushwork/render/gl_name.hpp"
@@ -41,9 +41,9 @@ class Paper {
 
   // draw the brush's footprint swept from its last deposit; ink may be null: black, constant
   // level.  The ink and the brush are left as they are: spend_ink() applies the stats to them.
-  // A split brush deposits every tuft (Brush::tufts()), each swept from its own last deposit,
+  // A split brush deposits every tuft of the frame, each swept from its own last deposit,
   // through its own stroke frame and its own seed of the split and dry fields
-  DepositStats deposit(const Brush& brush, const Ink* ink);
+  DepositStats deposit(const BrushFrame& brush, const Ink* ink);
   void end_stroke();   // composite the stroke layer (also on lift, readback and save)
   bool undo();         // remove the last stroke; false when there is none
   void clear();
@@ -86,19 +86,19 @@ class Paper {
 
  private:
   void flush_stroke();
-  void check_deposit(const Brush& brush, const Ink* ink) const;  // std::invalid_argument
+  void check_deposit(const BrushFrame& brush, const Ink* ink) const;  // std::invalid_argument
   // a stroke frame for each tuft; those not swept from the last deposit start theirs
   void start_frames(const std::vector<bool>& swept);
   // tuft k of the brush: its stroke frame frames_[k], its fields' seed
   // ... returns the share of the footprint the dry map and the grain leave inked (texture_coverage)
-  double draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const Brush& brush,
+  double draw_plan(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, const TuftFrame& tuft,
                  const Ink* ink, double excess, double density, std::size_t k, DepositStats& stats);
   void set_stroke_color(const Ink* ink);  // the stroke's ink colour (a new one composites the layer)
   // tuft k's deposit: drawn, and with depletion the ink it gave the paper counted in stats
   void deposit_tuft(const SweepPlan& plan, const SweepFrame& last, const SweepFrame& cur, bool swept,
-                    const Brush& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats);
+                    const TuftFrame& tuft, const Ink* ink, double excess, std::size_t k, DepositStats& stats);
   // depletion: the mm^2 of full-density ink tuft k gave the paper in this deposit at that density
-  double wet_gain(const Brush& tuft, bool swept, std::size_t k, double density);
+  double wet_gain(const TuftFrame& tuft, bool swept, std::size_t k, double density);
   void read_tiles(const std::function<void(const PaperTile&, const float*)>& f);
   void for_tiles(const std::array<int, 4>& rect, bool stroke_layer,
                  const std::function<void(PaperTile&, int, int, int, int)>& f);
@@ -119,9 +119,9 @@ class Paper {
 
   // stroke state: the last deposit's surface (for the sweep), the stroke's pixel rectangle
   bool stroke_open_ = false, stroke_pending_ = false;
-  const Brush* last_brush_ = nullptr;
+  std::uint64_t last_brush_ = 0;  // the brush of the last deposit (BrushFrame::brush; 0: none)
   std::vector<SweepFrame> last_;  // each tuft's surface at the last deposit, the main tuft first
-  std::vector<const Brush*> last_tufts_;  // the tuft each of last_ belongs to
+  std::vector<int> last_tufts_;   // the tuft each of last_ belongs to (TuftFrame::tuft)
   std::vector<std::unique_ptr<StrokeFrame>> frames_;  // each tuft's stroke frame of the split and dry fields
   std::array<int, 4> stroke_rect_{{0, 0, 0, 0}};
   std::array<float, 4> stroke_color_{{0, 0, 0, 1}};  // straight RGBA of the stroke's ink

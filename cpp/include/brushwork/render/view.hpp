@@ -7,7 +7,6 @@
 #include <string>
 #include <vector>
 
-#include "brushwork/brush.hpp"
 #include "brushwork/render/context.hpp"
 #include "brushwork/render/gl_name.hpp"
 #include "brushwork/render/paper.hpp"
@@ -35,13 +34,15 @@ class BrushView {
   BrushView& operator=(const BrushView&) = delete;
   int width_px() const { return W_; }
   int height_px() const { return H_; }
-  // (H, W, 4) RGBA8 into `out`, row 0 at the top; paper and ink may be null
-  void render(Paper* paper, const Brush& brush, const Ink* ink, const ViewOptions& o,
+  // (H, W, 4) RGBA8 into `out`, row 0 at the top; paper and ink may be null.  The main tuft
+  // takes the colours of `ink`, a child tuft those of its own ink (black unless both are loaded)
+  void render(Paper* paper, const BrushFrame& brush, const Ink* ink, const ViewOptions& o,
               std::uint8_t* out);
 
  private:
   void draw_paper(const std::vector<Paper::TileRef>& tiles, double px_per_mm, const float* mvp);
-  int upload_tuft(const Brush& brush, const Ink* ink);  // indices of its triangles
+  // the tuft's surface and its colours root..tip (null: black); indices of its triangles
+  int upload_tuft(const TuftFrame& tuft, const std::vector<std::array<float, 4>>* ramp);
   void draw_tuft(const ViewOptions& o, bool shadow, int n_idx, float dist, const float* mvp);
   void read_back(std::uint8_t* out);  // (H, W, 4) RGBA8, row 0 at the top
 

@@ -1,0 +1,34 @@
+// The geometry of a tuft at a deposit, as the renderer and the ink take it.
+#include "brushwork/tuft_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace brushwork {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kPressureSamples = 32;      // points around a section where its lowest point is looked for
+constexpr double kMinMinorRadius = 1e-3;  // mm: the least minor radius c a node's pressure is taken over
+}  // namespace
+
+std::vector<float> node_pressure(const std::vector<Section>& sections) {
+  std::vector<float> p(sections.size(), 0.0f);
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    const Section& s = sections[i];
+    // lowest point of the two half ellipses, sampled around
+    double zmin = s.center.z();
+    for (int k = 0; k < kPressureSamples; ++k) {
+      const double t = 2.0 * kPi * k / kPressureSamples;
+      const double ct = std::cos(t), st = std::sin(t);
+      const double z = s.center.z() + (ct >= 0 ? s.a_plus : s.a_minus) * ct * s.u.z() + s.c * st * s.w.z();
+      zmin = std::min(zmin, z);
+    }
+    p[i] = static_cast<float>(std::clamp(-zmin / std::max(s.c, kMinMinorRadius), 0.0, 1.0));
+  }
+  return p;
+}
+
+Loops own_footprint(const TuftFrame& tuft) { return footprint_loops(sweep_surface(tuft.sections, MeshOptions{})); }
+
+}  // namespace brushwork
