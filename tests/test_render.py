@@ -442,6 +442,29 @@ def test_a_turning_stroke_keeps_both_edges_smooth():
     assert roughness <= ARC_EDGE_ROUGHNESS_PX
 
 
+@pytest.mark.parametrize("ink_path", ["gl", "geometry"])
+def test_a_deposit_spends_the_ink_by_the_brush_s_own_state_update(ink_path):
+    """The ink's physics (load, spending, wetness) is the brush's state update, Brush.spend_ink,
+    not the paper's: a twin brush moved alike that only spends, by the stats each deposit
+    returns, what the paper took of the first goes through the same ink, wetness and motion bit
+    for bit (a soaked tip too on the GL paper), while the first brush's ink drains."""
+    model = bw.BrushModel.preset("small")
+    brush, twin = bw.Brush(model), bw.Brush(model)
+    for b in (brush, twin):
+        b.load_ink(total_mm2=60.0)
+    scene = bw.Scene(depletion=True, soaked_tip=ink_path == "gl")
+    paper = bw.make_paper(120, 30, 10, scene, ink=ink_path)
+    for pose in straight_stroke(model, start=(10, 15), length_mm=100, step_mm=1.0, press=0.3):
+        brush.step(pose)
+        twin.step(pose)
+        twin.spend_ink(paper.deposit(brush), paper.scene, twin.ink)
+        assert np.array_equal(twin.ink.load, brush.ink.load) and np.array_equal(twin.wetness, brush.wetness)
+        assert twin.ink.deposited == brush.ink.deposited and twin.ink.excess == brush.ink.excess
+        assert np.array_equal(twin.skeleton(), brush.skeleton())
+    assert brush.ink.total() < 0.5 * 60.0 and brush.wetness.min() < 0.5, "the stroke drains the brush"
+    assert (brush.ink.excess < 0.5) == (ink_path == "gl"), "the soaked tip drains on the GL paper"
+
+
 def test_the_ink_is_part_of_the_brush_state():
     """A saved state carries the ink: putting it back gives back the ink and wetness it had, and
     the stroke continues with the same ink as it did the first time."""

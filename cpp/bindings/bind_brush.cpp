@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "brushwork/brush.hpp"
+#include "brushwork/render/deposit.hpp"
 
 namespace py = pybind11;
 using namespace brushwork;
@@ -196,6 +197,10 @@ void bind_brush_class(py::module_& m) {
       .def("_ink", py::overload_cast<>(&Brush::ink), py::return_value_policy::reference_internal,
            "the brush's own ink (a view into its state; empty until loaded)")
       .def("_set_ink", &Brush::set_ink, py::arg("ink"))
+      .def("spend_ink", [](Brush& b, const DepositStats& stats, const SceneFeatures& scene,
+                           Ink& ink) { b.spend_ink(stats, scene, ink); }, py::arg("stats"), py::arg("scene"), py::arg("ink"),
+           "the ink's state update after a deposit (as Paper.deposit makes it): `ink` spent by what the "
+           "deposit's `stats` say the paper took, in `scene`'s terms; the wetness set from it")
       .def_property(
           "wetness", [](const Brush& b) { return Eigen::VectorXd(b.wetness()); }, &set_wetness);
   bind_frame_problem(c);

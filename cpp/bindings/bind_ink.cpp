@@ -6,8 +6,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "brushwork/brush.hpp"
 #include "brushwork/ink_geometry.hpp"
+#include "brushwork/write.hpp"
 #include "readback.hpp"
 
 namespace py = pybind11;
@@ -69,8 +69,7 @@ readback; no GL context. Opaque scenes only (no split, dry or grain map, soaked 
         DepositStats stats;
         {
           py::gil_scoped_release nogil;
-          stats = p.deposit(brush.frame(), ink);
-          if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
+          stats = brushwork::deposit(p, brush, ink);
         }
         return stats;
       }, py::arg("brush"), py::arg("ink") = nullptr)

@@ -9,6 +9,7 @@
 #include "brushwork/brush.hpp"
 #include "brushwork/depth.hpp"
 #include "brushwork/render.hpp"
+#include "brushwork/write.hpp"
 #include "readback.hpp"
 
 namespace py = pybind11;
@@ -122,7 +123,7 @@ void bind_ink_stats(py::module_& m) {
 Ink on one brush. ramp: (K, 4) straight RGBA root..tip; load, capacity: (n+1,) mm^2 of paper at
 full density per spine node (wetness = load / capacity); excess: soaked-tip moisture 0..1;
 deposited: mm^2 given to the paper so far (depletion scenes).)doc")
-      .def(py::init([](const Brush& brush, double total_mm2) { return Ink::full(brush, total_mm2); }),
+      .def(py::init([](const Brush& brush, double total_mm2) { return Ink::full(brush.sections(), total_mm2); }),
            py::arg("brush"), py::arg("total_mm2") = 2000.0)
       .def_property(
           "ramp", [](const Ink& k) { return k.ramp; },
@@ -171,9 +172,7 @@ void bind_paper(py::module_& m) {
       .def("deposit", [](Paper& p, Brush& brush, Ink* ink) {
         // draw, then spend the brush's ink by what was drawn (other Python threads run meanwhile)
         py::gil_scoped_release nogil;
-        const DepositStats stats = p.deposit(brush.frame(), ink);
-        if (ink != nullptr) spend_ink(stats, p.scene(), *ink, brush);
-        return stats;
+        return brushwork::deposit(p, brush, ink);
       }, py::arg("brush"), py::arg("ink") = nullptr)
       .def("end_stroke", &Paper::end_stroke, py::call_guard<py::gil_scoped_release>())
       .def("undo", &Paper::undo, py::call_guard<py::gil_scoped_release>())

@@ -201,6 +201,14 @@ void Brush::set_ink(const Ink& ink) {
   state_.ink = ink;
 }
 
+void Brush::spend_ink(const InkUse& use, const SceneFeatures& scene, Ink& ink) {
+  ink.validate(tuft_.n + 1);
+  if (use.drawn && use.pressure.size() != static_cast<std::size_t>(tuft_.n + 1))
+    throw std::invalid_argument("spend_ink: the deposit measured " + std::to_string(use.pressure.size()) +
+                                " nodes, the brush has " + std::to_string(tuft_.n + 1));
+  brushwork::spend_ink(use, scene, ink, state_.wetness);
+}
+
 void Brush::prepare(const Pose& pose) { prepare_frame(tuft_, state_, pose, ws_); }
 
 // ---------------------------------------------------------------------------------------------

@@ -98,6 +98,9 @@ class Brush {
   Ink& ink() { return state_.ink; }
   const Ink& ink() const { return state_.ink; }
   void set_ink(const Ink& ink);  // validates it for this brush's n+1 nodes
+  // the ink's state update after a deposit took `use` of it: `ink` (the brush's own or any other of
+  // its n+1 nodes) spent as the scene says, this tuft's wetness set from it (spend_ink, ink.hpp)
+  void spend_ink(const InkUse& use, const SceneFeatures& scene, Ink& ink);
 
  private:
   // the full vector x with the active variables z put in (validates z's size)

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "brushwork/geometry.hpp"
+#include "brushwork/ink.hpp"
 
 namespace brushwork {
 
@@ -56,25 +57,6 @@ struct StepStats {
   std::vector<double> merit_before, merit_after;  // per accepted step, with the same nu
   std::vector<double> step_sizes;                 // alpha of each accepted step
   std::vector<double> kkt_trace;                  // KKT residual after each accepted step
-};
-
-class Brush;
-
-// Ink on one brush (seed "Ink loading").  Colours are straight (not premultiplied) RGBA in
-// [0, 1]; alpha is the ink's opacity.  load/capacity are per spine node, in mm^2 of paper covered
-// at full density; the brush's wetness is load / capacity.
-struct Ink {
-  std::vector<std::array<float, 4>> ramp{{0.0f, 0.0f, 0.0f, 1.0f}};  // root .. tip, >= 1 entry
-  Eigen::VectorXd load;      // (n+1) mm^2
-  Eigen::VectorXd capacity;  // (n+1) mm^2
-  double excess = 0.0;       // soaked tip: excess moisture in [0, 1]
-  double deposited = 0.0;    // mm^2 given to the paper so far (depletion scenes)
-
-  // full ink of `total_mm2`, split over the nodes in proportion to the section areas
-  static Ink full(const Brush& brush, double total_mm2);  // (render/ink.cpp)
-  bool loaded() const { return load.size() > 0; }  // false until the brush is first dipped
-  double total() const { return load.sum(); }
-  void validate(int nodes) const;
 };
 
 struct BrushState {
