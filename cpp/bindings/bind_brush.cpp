@@ -167,7 +167,7 @@ void bind_brush_class(py::module_& m) {
       .def("step", &Brush::step, py::arg("pose"), py::call_guard<py::gil_scoped_release>())
       .def("reset", &Brush::reset)
       .def_property_readonly("last_stats", &Brush::last_stats, py::return_value_policy::copy)
-      .def("skeleton", &Brush::skeleton)
+      .def("skeleton", py::overload_cast<>(&Brush::skeleton, py::const_))
       .def("lateral_nodes", &Brush::lateral_nodes)
       .def("section_heights", &Brush::section_heights)
       .def("clearance", &Brush::clearance,
@@ -187,7 +187,7 @@ void bind_brush_class(py::module_& m) {
       .def("_tuft_skeletons",
            [](const Brush& b) {
              std::vector<Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> all;
-             for (const Brush* t : b.tufts()) all.push_back(t->skeleton());
+             for (int k : b.tufts()) all.push_back(b.skeleton(k));
              return all;
            },
            "(n_j+1, 3) mm spine of each tuft that meets the paper (Brush::tufts), the main tuft first")

@@ -1,5 +1,6 @@
-// One tuft of the Chu-Tai brush: a facade over its model (Tuft, read-only), its state
-// (BrushState, one copyable value) and its scratch (Workspace); see step.hpp.
+// The Chu-Tai brush: a thin facade over its tufts (BrushTufts: the main tuft and its children,
+// read-only, with their scratch Workspaces) and its state (BrushState, one copyable value, the
+// children's states in it); see step.hpp and tufts.hpp.
 //
 // step(pose) = one frame (seed "Energy minimization problems", "Real-time simulation"):
 //   1. the root moves to the pose; plasticity shifts the rest angles; the contact set, the
@@ -32,6 +33,7 @@
 #include "brushwork/state.hpp"
 #include "brushwork/step.hpp"
 #include "brushwork/tuft_frame.hpp"
+#include "brushwork/tufts.hpp"
 
 namespace brushwork {
 
@@ -39,20 +41,22 @@ class Brush {
  public:
   explicit Brush(const BrushModel& model);
 
-  const BrushModel& model() const { return tuft_.model; }
+  const BrushModel& model() const { return core_.main.model; }
   // one frame: this tuft's minimisation, then (model.tufts > 0) sprouting, each sprouted child
-  // tuft's own minimisation and merging (seed "Simulation with multiple tufts")
-  StepStats step(const Pose& pose);
+  // tuft's own minimisation and merging (seed "Simulation with multiple tufts"; tufts.hpp)
+  StepStats step(const Pose& pose) { return brushwork::step(core_, state_, pose); }
   const StepStats& last_stats() const { return state_.stats; }
   void reset();  // straight, unstrained, plasticity forgotten, Hessian forgotten
 
   // the whole mutable state, as a value: state() is a copy; set_state() puts one back (throws
   // std::invalid_argument if it was made for a brush of another shape)
-  BrushState state() const;  // this tuft's state, the children's in its `children`
+  BrushState state() const { return state_; }  // this tuft's state, the children's in its `children`
   void set_state(const BrushState& s);
 
   // geometry of the current state
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton() const;        // (n+1, 3) mm
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton() const { return skeleton(0); }  // (n+1, 3) mm
+  // (n_k+1, 3) mm, the spine of tuft k: 0 this one, 1 + j the child T_j
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> skeleton(int k) const;
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> lateral_nodes() const;   // (2(n+1), 3) mm: node i at rows 2i (+u) and 2i+1 (-u)
   std::vector<Section> sections() const;  // Omega_0..Omega_n (below N_i thinned by tuft_core while satellites sprout)
   SurfaceMesh surface_mesh(const MeshOptions& opt) const;
@@ -60,9 +64,9 @@ class Brush {
   double footprint_area(const MeshOptions& opt) const;  // mm^2, summed over the tufts
   Loops own_footprint(const MeshOptions& opt) const;    // this tuft's loops alone
 
-  // the tufts that meet the paper: this tuft, then each sprouted child (a Brush of
+  // the tufts that meet the paper: this tuft (0), then each sprouted child T_j (1 + j, a tuft of
   // model().split_model()); while even tufts replace this one, those alone
-  std::vector<const Brush*> tufts() const;
+  std::vector<int> tufts() const;
   int tufts_active() const { return state_.tufts_active; }
   // what a paper takes of the brush now: each tuft of tufts() as geometry and wetness, this
   // tuft's node pressure, and the brush's identity
@@ -72,13 +76,13 @@ class Brush {
   std::uint64_t id() const { return id_.value; }
   Eigen::VectorXd section_heights() const;  // (n,) mm, lowest point of Phi_1..Phi_n (the constraints g_i)
   // mm, the lowest point of every sprouted tuft's sections Omega_1..Omega_n above the paper
-  double clearance() const;
+  double clearance() const { return brushwork::clearance(core_, state_); }
 
   // the frame problem, for tests and other solvers: prepare() does step()'s set-up (pose,
   // plasticity, frozen contact set) without solving; the functions below then evaluate it at
   // any active-variable vector z.
   void prepare(const Pose& pose);
-  int num_variables() const { return tuft_.na(); }
+  int num_variables() const { return core_.main.na(); }
   int num_constraints() const { return state_.m; }
   VecX variables() const;            // (num_variables,) current active variables
   void set_variables(const VecX& z); // validates size and finiteness
@@ -105,17 +109,12 @@ class Brush {
  private:
   // the full vector x with the active variables z put in (validates z's size)
   VecX with_variables(const VecX& z) const;
-  // sprout the children, step the sprouted ones, then merge them once the brush has cleared
-  // the paper; adds their figures to st
-  void step_children(StepStats& st);
-  void sprout();
-  // the satellites' parent node moves up by one, each child growing a segment at its root
-  void grow();
-  // the children rebuilt to hang from N_node (state_.split_node), unless they already do
-  void hang_children(int node);
-  // the node the split tufts sprout from: N_0 for even tufts, else N_{tuft_node}
-  int sprout_node() const { return tuft_.model.even_tufts ? 0 : tuft_.model.tuft_node; }
-  TuftFrame tuft_frame(int index) const;  // this tuft (index 0) or child index - 1
+  // tuft k (as tufts() numbers them): its read-only tuft, its scratch (kinematics) and its state
+  const Tuft& tuft(int k) const { return k == 0 ? core_.main : core_.children[k - 1]; }
+  const Workspace& workspace(int k) const { return k == 0 ? core_.ws : core_.child_ws[k - 1]; }
+  const BrushState& tuft_state(int k) const { return k == 0 ? state_ : state_.children[k - 1]; }
+  std::vector<Section> sections(int k) const;  // Omega_0..Omega_n of tuft k
+  TuftFrame tuft_frame(int k) const;
 
   struct Identity {
     std::uint64_t value;
@@ -123,12 +122,10 @@ class Brush {
     Identity(const Identity&) : Identity() {}
     Identity& operator=(const Identity&) { return *this; }
   };
-  Identity id_;
 
-  Tuft tuft_;
+  BrushTufts core_;
   BrushState state_;
-  Workspace ws_;
-  std::vector<Brush> children_;  // (model.tufts) child tufts T_j, their states their own
+  Identity id_;
 };
 
 }  // namespace brushwork

@@ -48,3 +48,41 @@ void grow_child(const Tuft& parent, const BrushState& ps, int node, const BrushS
                 BrushState& cs);
 
 }  // namespace brushwork
+
+namespace brushwork {
+
+// ---------------------------------------------------------------------------------------------
+// The whole brush: the main tuft T_0 and its children, stepped as one (seed "Simulation with
+// multiple tufts").  BrushState holds every state (the children's in `children`); BrushTufts holds
+// what is read-only and the scratch: the main tuft and its workspace, and the child tufts as made
+// for the node N_i they hang from (BrushState::split_node), each with its workspace.
+struct BrushTufts {
+  Tuft main;
+  Workspace ws;
+  int node = 0;                     // N_i the children's tufts are made for
+  std::vector<Tuft> children;       // (model.tufts) T_j
+  std::vector<Workspace> child_ws;  // (model.tufts)
+
+  explicit BrushTufts(const BrushModel& model);  // the children as they sprout (split_model())
+  // the node the split tufts sprout from: N_0 for even tufts, else N_{tuft_node}
+  int sprout_node() const { return main.model.even_tufts ? 0 : main.model.tuft_node; }
+  // the children's tufts for N_node (child_model(node)), with fresh workspaces, unless made for it
+  void hang(int node);
+};
+
+// straight, unstrained, a single tuft, each child at rest; then reset_state()
+BrushState initial_state(BrushTufts& b);
+// the main tuft and every child reset (reset_state above), the brush a single tuft again
+void reset_state(BrushTufts& b, BrushState& s);
+// one frame: the main tuft's minimisation, then (model.tufts > 0) sprouting or the split
+// reaching up a node, each sprouted child's own minimisation at the pose its parent's frame
+// gives it, and merging once the brush has cleared the paper; the children's figures added to
+// the main tuft's
+StepStats step(BrushTufts& b, BrushState& s, const Pose& pose);
+// s = from and the workspaces' kinematics at it; throws std::invalid_argument (s unchanged)
+// unless `from` was made for a brush of b's shape, children and their node included
+void set_state(BrushTufts& b, BrushState& s, const BrushState& from);
+// mm, the lowest point of every sprouted tuft's sections Omega_1..Omega_n above the paper
+double clearance(const BrushTufts& b, const BrushState& s);
+
+}  // namespace brushwork
