@@ -31,8 +31,10 @@ struct SweepTolerance {
 // at enough t that the band swept between two of them, each footprint slid along its centroid's
 // move to the next, stays within tol of the continuous sweep.  Loops in mm (outer loops
 // counter-clockwise, holes clockwise), overlapping: their union (winding > 0) is the region.
-// `samples` receives the blends taken (0 when nothing is below the paper).
-Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples);
+// `samples` receives the blends taken (0 when nothing is below the paper).  Without the start
+// (`with_start` false: the last deposit already left it) the region leaves out `last`'s own footprint.
+Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples,
+                      bool with_start = true);
 
 // The union of `loops` (winding number > 0) as closed contours: outer loops counter-clockwise,
 // holes clockwise, none overlapping; coordinates rounded to 1 nm.

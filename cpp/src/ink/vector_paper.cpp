@@ -52,24 +52,32 @@ bool below_paper(const SurfaceMesh& m) { return m.vertices.rows() > 0 && m.verti
 
 }  // namespace
 
-// a run of deposits at one density and their region, kept unioned: each deposit's pieces are
-// unioned first (they overlap one another), then with the region so far, which they overlap only
-// near the stroke's head.  (Clipper's sweep line pays for every pair of edges it holds at once:
-// one union of a whole stroke's overlapping pieces holds hundreds and cost 95% of the writing;
-// two small unions a deposit hold a few)
+// a run of deposits at one density and their region.  Clipper's sweep line pays for every pair
+// of edges it holds at once, so the region is built as a binary counter: each deposit's pieces
+// are a run of level 0, and two runs of one level are unioned into one of the next.  A union then
+// holds two regions of like size, and a stroke of n deposits costs O(n log n) edges, not the
+// O(n^2) of uniting each deposit with the whole region so far.
 struct Group {
   double density = 1.0;
-  ClipperLib::Paths paths;
+  ClipperLib::Paths paths;                          // the region (unioned) when `runs` is empty
+  std::vector<std::pair<int, ClipperLib::Paths>> runs;  // (level, region) not yet in `paths`
   void add(const Loops& loops) {
-    ClipperLib::Paths d = clip::unite(clip::to_paths(loops));
-    if (paths.empty()) {
-      paths = std::move(d);
-      return;
+    runs.emplace_back(0, clip::to_paths(loops));
+    while (runs.size() >= 2 && runs[runs.size() - 2].first == runs.back().first) {
+      auto top = std::move(runs.back());
+      runs.pop_back();
+      auto& below = runs.back();
+      below.second.insert(below.second.end(), top.second.begin(), top.second.end());
+      below.second = clip::unite(below.second);
+      ++below.first;
     }
-    paths.insert(paths.end(), d.begin(), d.end());
+  }
+  // `paths` the union of everything added
+  void compact() {
+    for (auto& r : runs) paths.insert(paths.end(), r.second.begin(), r.second.end());
+    runs.clear();
     paths = clip::unite(paths);
   }
-  void compact() { paths = clip::unite(paths); }
 };
 
 struct VectorPaper::Stroke {
@@ -136,11 +144,11 @@ void VectorPaper::deposit_tuft(const Brush& tuft, const SurfaceMesh* last, const
   // the region swept since the last deposit (a still footprint when the tuft starts here), at
   // the density its wetness gives
   int samples = 0;
-  const Loops region = swept_footprint(last != nullptr ? *last : cur, cur, tol_, &samples);
+  const Loops region = swept_footprint(last != nullptr ? *last : cur, cur, tol_, &samples, last == nullptr);
   if (k == 0) stats.substeps = samples;
   const double density = scene_.depletion ? ink_density(tuft) : 1.0;
   if (!region.empty()) {
-    if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}});
+    if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}, {}});
     open_->groups.back().add(region);
     stats.drawn = true;
   }
@@ -192,7 +200,10 @@ void VectorPaper::flush_stroke() {
     // and the footprints meet in slits and spikes a few hundredths of a mm thick: features the
     // brush does not make, which a closing and opening by kCleanTol tol take off (the corners
     // round to that radius, 0.25 px at 10 px/mm)
-    for (Group& g : open_->groups) g.paths = clip::clean(g.paths, kCleanTol * tol_.tol_mm);
+    for (Group& g : open_->groups) {
+      g.compact();
+      g.paths = clip::clean(g.paths, kCleanTol * tol_.tol_mm);
+    }
     strokes_.push_back(std::move(*open_));
   }
   open_.reset();
@@ -235,7 +246,10 @@ std::vector<VectorPaper::Layer> VectorPaper::layers() {
     open_solid = solid(s);
   };
   for (const Stroke& s : strokes_) add(s);
-  if (open_ && !open_->groups.empty()) add(*open_);
+  if (open_ && !open_->groups.empty()) {
+    for (Group& g : open_->groups) g.compact();
+    add(*open_);
+  }
   for (Layer& l : out)
     for (Group& g : l.groups) g.compact();
   union_s_ = seconds_since(t0);
