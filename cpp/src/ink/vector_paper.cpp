@@ -265,16 +265,42 @@ Loops VectorPaper::outlines() {
 
 namespace {
 
-// a layer's ink over the paper: the densest of its groups' coverage at each pixel
+// the pixels a group's region can cover: [x0, x1) x [y0, y1), y from the bottom, within W x H
+std::array<int, 4> pixel_box(const ClipperLib::Paths& paths, double ppm, int W, int H) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const auto& p : paths)
+    for (const auto& q : p) {
+      lo[0] = std::min(lo[0], static_cast<double>(q.X)), hi[0] = std::max(hi[0], static_cast<double>(q.X));
+      lo[1] = std::min(lo[1], static_cast<double>(q.Y)), hi[1] = std::max(hi[1], static_cast<double>(q.Y));
+    }
+  const double k = ppm / clip::kUnitsPerMm;
+  auto px = [&](double v, int n, bool up) {
+    return std::clamp(static_cast<int>(up ? std::ceil(v * k) + 1 : std::floor(v * k) - 1), 0, n);
+  };
+  return {px(lo[0], W, false), px(hi[0], W, true), px(lo[1], H, false), px(hi[1], H, true)};
+}
+
+// a layer's ink over the paper: the densest of its groups' coverage at each pixel, each group
+// rasterised over its own box of pixels only (the loops moved by whole pixels, so the grid is the
+// paper's; what lies left or right of the paper is clamped to its side as on the whole paper)
 void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, std::vector<float>& cov,
                  std::vector<float>& alpha) {
-  const std::size_t N = static_cast<std::size_t>(W) * H;
-  alpha.assign(N, 0.0f);
-  cov.resize(N);
+  alpha.assign(static_cast<std::size_t>(W) * H, 0.0f);
   for (const Group& g : groups) {
-    coverage(clip::to_loops(g.paths), ppm, W, H, cov.data());
+    const auto [x0, x1, y0, y1] = pixel_box(g.paths, ppm, W, H);
+    if (x1 <= x0 || y1 <= y0) continue;
+    Loops loops = clip::to_loops(g.paths);
+    for (auto& L : loops) L.rowwise() -= Eigen::RowVector2d(x0 / ppm, y0 / ppm);
+    const int w = x1 - x0, h = y1 - y0;
+    cov.resize(static_cast<std::size_t>(w) * h);
+    coverage(loops, ppm, w, h, cov.data());
     const float d = static_cast<float>(g.density);
-    for (std::size_t i = 0; i < N; ++i) alpha[i] = std::max(alpha[i], d * cov[i]);
+    // the box's row r (0 at its top) is the paper's row H - y1 + r (0 at the paper's top)
+    for (int r = 0; r < h; ++r) {
+      float* a = &alpha[static_cast<std::size_t>(H - y1 + r) * W + x0];
+      const float* c = &cov[static_cast<std::size_t>(r) * w];
+      for (int i = 0; i < w; ++i) a[i] = std::max(a[i], d * c[i]);
+    }
   }
 }
 
