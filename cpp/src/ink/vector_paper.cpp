@@ -92,6 +92,13 @@ struct VectorPaper::Layer {
 
 struct VectorPaper::Wet {
   WetLedger ledger{kWetCellMm};
+  std::vector<float> cov, alpha;  // the rasteriser's planes, kept between readbacks (no page faults)
+  // up to a 4096 px square paper's; a larger paper's planes go back after each readback
+  void release_large() {
+    constexpr std::size_t kKeep = std::size_t{4096} * 4096;
+    for (auto* v : {&cov, &alpha})
+      if (v->capacity() > kKeep) std::vector<float>().swap(*v);
+  }
 };
 
 VectorPaper::VectorPaper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
@@ -321,13 +328,15 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
   const std::vector<Layer> ls = layers();
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t N = static_cast<std::size_t>(W_) * H_;
-  std::vector<float> cov, alpha, rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
+  std::vector<float>&cov = wet_->cov, &alpha = wet_->alpha;
+  std::vector<float> rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
   if (ls.size() <= 1) {
     if (!ls.empty()) layer_alpha(ls[0].groups, ppm_, W_, H_, cov, alpha);
     for (int y = 0; y < H_; ++y) {
       if (!ls.empty()) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y) * W_], W_, row.data());
       put(y, row.data());
     }
+    wet_->release_large();
     raster_s_ = seconds_since(t0);
     return;
   }
@@ -342,6 +351,7 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
     }
   }
   for (int y = 0; y < H_; ++y) put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
+  wet_->release_large();
   raster_s_ = seconds_since(t0);
 }
 
