@@ -88,7 +88,10 @@ def test_the_swept_footprint_is_the_continuous_sweep(move):
     v0, f, _ = b.surface_mesh(opt)
     f = f.astype(np.int32)
     still, k = _core.swept_footprint(v0, v0, f)
-    assert k == 1 and area(_core.union_loops(still)) == pytest.approx(area(_core.union_loops(b.footprint(opt))), rel=1e-6)
+    # a still tuft leaves its footprint, its outline simplified to within half the tolerance
+    fp = _core.union_loops(b.footprint(opt))
+    perimeter = sum(float(np.sum(np.linalg.norm(l - np.roll(l, 1, axis=0), axis=1))) for l in fp)
+    assert k == 1 and abs(area(_core.union_loops(still)) - area(fp)) <= 0.5 * 0.005 * perimeter
     b.step(bw.Pose((20.0 + move[0], 20.0 + move[1], z1), 15, move[2]))
     v1, _, _ = b.surface_mesh(opt)
     region, k = _core.swept_footprint(v0, v1, f)

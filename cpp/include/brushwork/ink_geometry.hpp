@@ -28,11 +28,13 @@ struct SweepTolerance {
 
 // The region a tuft's surface covers on the paper while it moves linearly from `last` to `cur`
 // (two meshes of one topology, paper at z = 0): the footprints of the blends (1 - t) last + t cur
-// at enough t that the band swept between two of them, each footprint slid along its centroid's
-// move to the next, stays within tol of the continuous sweep.  Loops in mm (outer loops
-// counter-clockwise, holes clockwise), overlapping: their union (winding > 0) is the region.
-// `samples` receives the blends taken (0 when nothing is below the paper).
-Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples);
+// at the t an error estimate asks for (an interval is halved until its midpoint's footprint lies
+// within tol of the band between its ends, in eight directions; never finer than each near
+// vertex's move departing from a translation by 2 tol), the bands between them, each loop's
+// outline simplified to within tol / 2.  Loops in mm (outer loops counter-clockwise, holes
+// clockwise), overlapping: their union (winding > 0) is the region.
+Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples,
+                      bool with_start = true);
 
 // The union of `loops` (winding number > 0) as closed contours: outer loops counter-clockwise,
 // holes clockwise, none overlapping; coordinates rounded to 1 nm.

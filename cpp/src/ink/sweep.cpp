@@ -1,6 +1,8 @@
 // A tuft's footprint swept between two frames, and the union of loops (Clipper).
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -199,9 +201,159 @@ void support_band(const std::vector<Loops>& loops, const Eigen::Vector2d& dir, L
   out.push_back(ccw_polygon(pts));
 }
 
+// the points of a closed loop a Douglas-Peucker pass keeps: every dropped point lies within eps
+// of the chord that replaces it.  The loop is split at its first point and the point furthest
+// from it, and each half simplified
+LoopMat simplify_loop(const LoopMat& L, double eps) {
+  const Eigen::Index n = L.rows();
+  if (n <= 4) return L;
+  std::vector<char> keep(static_cast<std::size_t>(n) + 1, 0);
+  Eigen::Index far = 0;
+  (L.rowwise() - L.row(0)).rowwise().squaredNorm().maxCoeff(&far);
+  auto point = [&](Eigen::Index i) { return Eigen::Vector2d(L.row(i % n).transpose()); };
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> stack{{0, far}, {far, n}};
+  keep[0] = keep[far] = 1;
+  while (!stack.empty()) {
+    const auto [i, j] = stack.back();
+    stack.pop_back();
+    const Eigen::Vector2d a = point(i), ab = point(j) - a;
+    const double len = ab.norm();
+    double worst = -1.0;
+    Eigen::Index w = -1;
+    for (Eigen::Index k = i + 1; k < j; ++k) {
+      const Eigen::Vector2d ak = point(k) - a;
+      const double d = len > 0.0 ? std::abs(ab.x() * ak.y() - ab.y() * ak.x()) / len : ak.norm();
+      if (d > worst) worst = d, w = k;
+    }
+    if (w < 0 || worst <= eps) continue;
+    keep[w] = 1;
+    stack.push_back({i, w});
+    stack.push_back({w, j});
+  }
+  std::vector<Eigen::Index> idx;
+  for (Eigen::Index k = 0; k < n; ++k)
+    if (keep[k]) idx.push_back(k);
+  if (idx.size() < 3) return L;
+  LoopMat out(static_cast<Eigen::Index>(idx.size()), 2);
+  for (std::size_t k = 0; k < idx.size(); ++k) out.row(static_cast<Eigen::Index>(k)) = L.row(idx[k]);
+  return out;
+}
+
+Loops simplified(Loops loops, double eps) {
+  for (auto& L : loops) L = simplify_loop(L, eps);
+  return loops;
+}
+
+// the support function of one loop in `dirs` (unit): how far it reaches along each
+std::array<double, 8> reach(const LoopMat& L, const std::array<Eigen::Vector2d, 8>& dirs) {
+  std::array<double, 8> h{};
+  for (std::size_t d = 0; d < dirs.size(); ++d) h[d] = (L * dirs[d]).maxCoeff();
+  return h;
+}
+
+// one blend of the adaptive sweep: its t, its footprint (one loop or none) and the loop's reach
+struct Blend {
+  double t;
+  Loops loops;
+  std::array<double, 8> h{};
+};
+
+// how far the midpoint blend m departs from the region the band between a and b gives, by its
+// reach in eight directions (infinite where a loop appears or goes between them, zero where none
+// of the three has a footprint)
+double departure(const Blend& a, const Blend& m, const Blend& b) {
+  if (a.loops.size() != m.loops.size() || m.loops.size() != b.loops.size())
+    return std::numeric_limits<double>::infinity();
+  if (m.loops.empty()) return 0.0;
+  // across the move (directions 2 and 6) the band's sides are chords of the support points'
+  // paths: m's support must lie within tol of the chord, either way; in the other directions the
+  // region reaches as far as the further of a and b, which m must not pass by more than tol
+  double err = 0.0;
+  for (std::size_t d = 0; d < m.h.size(); ++d) {
+    const double gap = d % 4 == 2 ? std::abs(m.h[d] - 0.5 * (a.h[d] + b.h[d])) : m.h[d] - std::max(a.h[d], b.h[d]);
+    err = std::max(err, gap);
+  }
+  return err;
+}
+
+// the footprints of a sweep at the blends an error estimate asks for: between two blends a and
+// b the midpoint m is taken, and the interval is split again unless m departs from the linear
+// sweep between a and b by at most tol (then the support band between a and b follows m's sides
+// to within tol, and m is kept as a blend of it).  No interval is split finer than 1 / K (K the
+// bound of blends_needed), so where a footprint appears or goes the blends close in on that t.
+// Empty when a footprint on the way is of several loops.
+std::vector<Blend> adaptive_blends(NearPart& p, Loops l0, Loops l1, int K, const SweepTolerance& tol) {
+  // eight directions, two of them across the move between the ends where both have a footprint
+  double a0 = 0.0;
+  if (l0.size() == 1 && l1.size() == 1) {
+    const Eigen::Vector2d move = loop_centre(l1.front()) - loop_centre(l0.front());
+    if (move.norm() > kStill) a0 = std::atan2(move.y(), move.x());
+  }
+  std::array<Eigen::Vector2d, 8> dirs;
+  for (int d = 0; d < 8; ++d) {
+    const double a = a0 + d * 3.14159265358979323846 / 4.0;
+    dirs[d] = Eigen::Vector2d(std::cos(a), std::sin(a));
+  }
+  auto make = [&](double t, Loops loops) {
+    Blend b{t, std::move(loops), {}};
+    b.h.fill(-std::numeric_limits<double>::infinity());
+    for (const auto& L : b.loops) {
+      const auto h = reach(L, dirs);
+      for (std::size_t d = 0; d < h.size(); ++d) b.h[d] = std::max(b.h[d], h[d]);
+    }
+    return b;
+  };
+  std::vector<Blend> done{make(0.0, std::move(l0))}, todo{make(1.0, std::move(l1))};
+  // todo: a stack of the blends right of done.back(), the nearest on top
+  while (!todo.empty()) {
+    if ((todo.back().t - done.back().t) * K > 1.0 + 1e-9) {
+      const double tm = 0.5 * (done.back().t + todo.back().t);
+      p.blend(tm);
+      Blend m = make(tm, footprint_loops(p.mesh));
+      const bool split = departure(done.back(), m, todo.back()) > tol.tol_mm;
+      (split ? todo : done).push_back(std::move(m));
+      if (split) continue;
+    }
+    done.push_back(std::move(todo.back()));
+    todo.pop_back();
+  }
+  return done;
+}
+
+// the region between the blends, the two ends left out: each run of one-loop footprints, its
+// first and last footprints (where it starts or ends on the way) and the support band across
+// its move; between blends of several loops, each loop's band to the nearest loop of the next,
+// and every such footprint on the way
+void blend_bands(const std::vector<Blend>& bs, Loops& out) {
+  const std::size_t n = bs.size();
+  for (std::size_t i = 0; i < n;) {
+    if (bs[i].loops.size() != 1) {
+      if (i > 0 && i + 1 < n) out.insert(out.end(), bs[i].loops.begin(), bs[i].loops.end());
+      if (i + 1 < n && !bs[i].loops.empty()) pair_bands(bs[i].loops, bs[i + 1].loops, out);
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (j + 1 < n && bs[j + 1].loops.size() == 1) ++j;
+    if (i > 0) out.push_back(bs[i].loops.front());
+    if (j + 1 < n) {
+      out.push_back(bs[j].loops.front());
+      pair_bands(bs[j].loops, bs[j + 1].loops, out);
+    }
+    const Eigen::Vector2d move = loop_centre(bs[j].loops.front()) - loop_centre(bs[i].loops.front());
+    if (j > i) {
+      std::vector<Loops> run;
+      for (std::size_t k = i; k <= j; ++k) run.push_back(bs[k].loops);
+      support_band(run, move.norm() > kStill ? move.normalized() : Eigen::Vector2d(1.0, 0.0), out);
+    }
+    i = j + 1;
+  }
+}
+
 }  // namespace
 
-Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples) {
+Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples,
+                      bool with_start) {
   if (last.vertices.rows() != cur.vertices.rows() || last.faces.rows() != cur.faces.rows())
     throw std::invalid_argument("swept_footprint: the two meshes differ in topology");
   if (!(tol.tol_mm > 0.0) || tol.max_samples < 1)
@@ -211,32 +363,18 @@ Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const Swe
   if (samples != nullptr) *samples = K;
   Loops out;
   if (K == 0) return out;
-  // footprints at t = 0, 1/K, .., 1, each slid toward the next along its centroid's move
-  std::vector<Loops> loops(K + 1);
-  std::vector<FootprintSpan> spans(K + 1);
-  for (int k = 0; k <= K; ++k) {
-    p.blend(static_cast<double>(k) / K);
-    loops[k] = footprint_loops(p.mesh);
-    spans[k] = footprint_span(loops[k], 0.0);
-  }
-  // the two ends, and between them the support band of one-loop footprints, or (a footprint
-  // of several loops, or none) every footprint and the bands of its runs facing its move
-  out = loops[0];
-  out.insert(out.end(), loops[K].begin(), loops[K].end());
-  bool single = true;
-  for (const Loops& l : loops) single = single && l.size() == 1;
-  if (single) {
-    const Eigen::Vector2d move = spans[K].centroid - spans[0].centroid;
-    if (move.norm() > kStill) support_band(loops, move.normalized(), out);
-    return out;
-  }
-  // several loops: each loop's band to the loop of the next footprint nearest it, and every
-  // footprint whose count of loops differs from the last one's (a loop appears, splits or goes)
-  for (int k = 0; k < K; ++k) {
-    if (k > 0 && loops[k].size() != loops[k - 1].size()) out.insert(out.end(), loops[k].begin(), loops[k].end());
-    pair_bands(loops[k], loops[k + 1], out);
-  }
-  return out;
+  p.blend(0.0);
+  Loops l0 = footprint_loops(p.mesh);
+  p.blend(1.0);
+  Loops l1 = footprint_loops(p.mesh);
+  // the two ends
+  if (with_start) out = l0;
+  out.insert(out.end(), l1.begin(), l1.end());
+  // the footprints at the blends the error estimate asks for and the bands between them
+  const std::vector<Blend> bs = adaptive_blends(p, std::move(l0), std::move(l1), K, tol);
+  if (samples != nullptr) *samples = static_cast<int>(bs.size()) - 1;
+  blend_bands(bs, out);
+  return simplified(std::move(out), 0.5 * tol.tol_mm);
 }
 
 Loops union_loops(const Loops& loops) { return clip::to_loops(clip::unite(clip::to_paths(loops))); }

@@ -51,24 +51,32 @@ bool below_paper(const SurfaceMesh& m) { return m.vertices.rows() > 0 && m.verti
 
 }  // namespace
 
-// a run of deposits at one density and their region, kept unioned: each deposit's pieces are
-// unioned first (they overlap one another), then with the region so far, which they overlap only
-// near the stroke's head.  (Clipper's sweep line pays for every pair of edges it holds at once:
-// one union of a whole stroke's overlapping pieces holds hundreds and cost 95% of the writing;
-// two small unions a deposit hold a few)
+// a run of deposits at one density and their region.  Clipper's sweep line pays for every pair
+// of edges it holds at once, so the region is built as a binary counter: each deposit's pieces
+// are a run of level 0, and two runs of one level are unioned into one of the next.  A union then
+// holds two regions of like size, and a stroke of n deposits costs O(n log n) edges, not the
+// O(n^2) of uniting each deposit with the whole region so far.
 struct Group {
   double density = 1.0;
-  ClipperLib::Paths paths;
+  ClipperLib::Paths paths;                          // the region (unioned) when `runs` is empty
+  std::vector<std::pair<int, ClipperLib::Paths>> runs;  // (level, region) not yet in `paths`
   void add(const Loops& loops) {
-    ClipperLib::Paths d = clip::unite(clip::to_paths(loops));
-    if (paths.empty()) {
-      paths = std::move(d);
-      return;
+    runs.emplace_back(0, clip::to_paths(loops));
+    while (runs.size() >= 2 && runs[runs.size() - 2].first == runs.back().first) {
+      auto top = std::move(runs.back());
+      runs.pop_back();
+      auto& below = runs.back();
+      below.second.insert(below.second.end(), top.second.begin(), top.second.end());
+      below.second = clip::unite(below.second);
+      ++below.first;
     }
-    paths.insert(paths.end(), d.begin(), d.end());
+  }
+  // `paths` the union of everything added
+  void compact() {
+    for (auto& r : runs) paths.insert(paths.end(), r.second.begin(), r.second.end());
+    runs.clear();
     paths = clip::unite(paths);
   }
-  void compact() { paths = clip::unite(paths); }
 };
 
 struct VectorPaper::Stroke {
@@ -83,6 +91,13 @@ struct VectorPaper::Layer {
 
 struct VectorPaper::Wet {
   WetLedger ledger{kWetCellMm};
+  std::vector<float> cov, alpha;  // the rasteriser's planes, kept between readbacks (no page faults)
+  // up to a 4096 px square paper's; a larger paper's planes go back after each readback
+  void release_large() {
+    constexpr std::size_t kKeep = std::size_t{4096} * 4096;
+    for (auto* v : {&cov, &alpha})
+      if (v->capacity() > kKeep) std::vector<float>().swap(*v);
+  }
 };
 
 VectorPaper::VectorPaper(double width_mm, double height_mm, double px_per_mm, const SceneFeatures& scene,
@@ -135,11 +150,11 @@ void VectorPaper::deposit_tuft(const TuftFrame& tuft, const SurfaceMesh* last, c
   // the region swept since the last deposit (a still footprint when the tuft starts here), at
   // the density its wetness gives
   int samples = 0;
-  const Loops region = swept_footprint(last != nullptr ? *last : cur, cur, tol_, &samples);
+  const Loops region = swept_footprint(last != nullptr ? *last : cur, cur, tol_, &samples, last == nullptr);
   if (k == 0) stats.substeps = samples;
   const double density = scene_.depletion ? ink_density(tuft) : 1.0;
   if (!region.empty()) {
-    if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}});
+    if (open_->groups.empty() || open_->groups.back().density != density) open_->groups.push_back(Group{density, {}, {}});
     open_->groups.back().add(region);
     stats.drawn = true;
   }
@@ -193,7 +208,10 @@ void VectorPaper::flush_stroke() {
     // and the footprints meet in slits and spikes a few hundredths of a mm thick: features the
     // brush does not make, which a closing and opening by kCleanTol tol take off (the corners
     // round to that radius, 0.25 px at 10 px/mm)
-    for (Group& g : open_->groups) g.paths = clip::clean(g.paths, kCleanTol * tol_.tol_mm);
+    for (Group& g : open_->groups) {
+      g.compact();
+      g.paths = clip::clean(g.paths, kCleanTol * tol_.tol_mm);
+    }
     strokes_.push_back(std::move(*open_));
   }
   open_.reset();
@@ -236,7 +254,10 @@ std::vector<VectorPaper::Layer> VectorPaper::layers() {
     open_solid = solid(s);
   };
   for (const Stroke& s : strokes_) add(s);
-  if (open_ && !open_->groups.empty()) add(*open_);
+  if (open_ && !open_->groups.empty()) {
+    for (Group& g : open_->groups) g.compact();
+    add(*open_);
+  }
   for (Layer& l : out)
     for (Group& g : l.groups) g.compact();
   union_s_ = seconds_since(t0);
@@ -252,16 +273,42 @@ Loops VectorPaper::outlines() {
 
 namespace {
 
-// a layer's ink over the paper: the densest of its groups' coverage at each pixel
+// the pixels a group's region can cover: [x0, x1) x [y0, y1), y from the bottom, within W x H
+std::array<int, 4> pixel_box(const ClipperLib::Paths& paths, double ppm, int W, int H) {
+  double lo[2] = {1e300, 1e300}, hi[2] = {-1e300, -1e300};
+  for (const auto& p : paths)
+    for (const auto& q : p) {
+      lo[0] = std::min(lo[0], static_cast<double>(q.X)), hi[0] = std::max(hi[0], static_cast<double>(q.X));
+      lo[1] = std::min(lo[1], static_cast<double>(q.Y)), hi[1] = std::max(hi[1], static_cast<double>(q.Y));
+    }
+  const double k = ppm / clip::kUnitsPerMm;
+  auto px = [&](double v, int n, bool up) {
+    return std::clamp(static_cast<int>(up ? std::ceil(v * k) + 1 : std::floor(v * k) - 1), 0, n);
+  };
+  return {px(lo[0], W, false), px(hi[0], W, true), px(lo[1], H, false), px(hi[1], H, true)};
+}
+
+// a layer's ink over the paper: the densest of its groups' coverage at each pixel, each group
+// rasterised over its own box of pixels only (the loops moved by whole pixels, so the grid is the
+// paper's; what lies left or right of the paper is clamped to its side as on the whole paper)
 void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, std::vector<float>& cov,
                  std::vector<float>& alpha) {
-  const std::size_t N = static_cast<std::size_t>(W) * H;
-  alpha.assign(N, 0.0f);
-  cov.resize(N);
+  alpha.assign(static_cast<std::size_t>(W) * H, 0.0f);
   for (const Group& g : groups) {
-    coverage(clip::to_loops(g.paths), ppm, W, H, cov.data());
+    const auto [x0, x1, y0, y1] = pixel_box(g.paths, ppm, W, H);
+    if (x1 <= x0 || y1 <= y0) continue;
+    Loops loops = clip::to_loops(g.paths);
+    for (auto& L : loops) L.rowwise() -= Eigen::RowVector2d(x0 / ppm, y0 / ppm);
+    const int w = x1 - x0, h = y1 - y0;
+    cov.resize(static_cast<std::size_t>(w) * h);
+    coverage(loops, ppm, w, h, cov.data());
     const float d = static_cast<float>(g.density);
-    for (std::size_t i = 0; i < N; ++i) alpha[i] = std::max(alpha[i], d * cov[i]);
+    // the box's row r (0 at its top) is the paper's row H - y1 + r (0 at the paper's top)
+    for (int r = 0; r < h; ++r) {
+      float* a = &alpha[static_cast<std::size_t>(H - y1 + r) * W + x0];
+      const float* c = &cov[static_cast<std::size_t>(r) * w];
+      for (int i = 0; i < w; ++i) a[i] = std::max(a[i], d * c[i]);
+    }
   }
 }
 
@@ -282,13 +329,15 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
   const std::vector<Layer> ls = layers();
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t N = static_cast<std::size_t>(W_) * H_;
-  std::vector<float> cov, alpha, rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
+  std::vector<float>&cov = wet_->cov, &alpha = wet_->alpha;
+  std::vector<float> rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
   if (ls.size() <= 1) {
     if (!ls.empty()) layer_alpha(ls[0].groups, ppm_, W_, H_, cov, alpha);
     for (int y = 0; y < H_; ++y) {
       if (!ls.empty()) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y) * W_], W_, row.data());
       put(y, row.data());
     }
+    wet_->release_large();
     raster_s_ = seconds_since(t0);
     return;
   }
@@ -303,6 +352,7 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
     }
   }
   for (int y = 0; y < H_; ++y) put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
+  wet_->release_large();
   raster_s_ = seconds_since(t0);
 }
 
