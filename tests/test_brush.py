@@ -322,3 +322,45 @@ def test_set_state_refuses_a_state_of_another_shape():
         b.set_state(flat.state())
     with pytest.raises(TypeError):
         b.set_state("not a state")
+
+
+@pytest.mark.parametrize("speed", [0.0, 1.0])
+def test_with_a_longer_spread_window_the_width_rises_with_every_step_of_press(speed):
+    # a small brush with p_i over two segments (spread_reach 1) lowered 0.1 mm a frame to 0.45 L
+    # below first contact, held still or dragged along +x at 1 mm a frame: the footprint's width
+    # across the travel never shrinks as the press deepens, and once it is a millimetre wide every
+    # 0.4 mm of press widens it (with the segment above alone it stands still over 0.05-0.19 L
+    # of press while the widest section waits for the next one up)
+    m = bw.BrushModel.preset("small")
+    m.spread_reach = 1.0
+    b = bw.Brush(m)
+    L, tilt = m.tuft_length, 15.0
+    zc = L * np.cos(np.radians(tilt))
+    widths = []
+    for k, z in enumerate(np.arange(zc + 0.02 * L, zc - 0.45 * L, -0.1)):
+        b.step(bw.Pose((speed * k, 0.0, z), tilt))
+        widths.append(footprint_extent(b, axis=1) if b.footprint() else 0.0)
+    widths = np.array(widths)
+    steps = np.diff(widths)
+    assert widths[-1] > 2 * m.belly_radius, widths[-1]
+    assert steps.min() > -0.01, f"width falls by {-steps.min():.3f} mm at step {steps.argmin()}"
+    wide = widths[int(np.argmax(widths > 1.0)):]
+    rise = wide[4:] - wide[:-4]
+    assert rise.min() > 0.03, f"width stands at {wide[rise.argmin()]:.2f} mm (+{rise.min():.3f} over 0.4 mm)"
+
+
+def test_bench_footprint_sweep_and_lift(tmp_path):
+    # `brushwork bench footprint --sweep --lift`: the figures of the test above (no falling step,
+    # no standing width with spread_reach 1) and one row a lift
+    import json
+
+    from brushwork import cli
+
+    out = tmp_path / "fp.json"
+    argv = ["bench", "footprint", "--preset", "small", "--sweep", "--lift", "--set", "spread_reach=1", "--json", str(out)]
+    assert cli.main(argv) == 0
+    res = json.loads(out.read_text())
+    assert [r["motion"] for r in res["sweep"]] == ["static", "dragged 1 mm/frame"]
+    assert all(r["falling steps"] == 0 and r["standing (L)"] < 0.02 for r in res["sweep"]), res["sweep"]
+    assert [r["lift frames"] for r in res["lift"]] == [2, 4, 8, 16]
+    assert all(0.0 <= r["tip jump while inking (mm/frame)"] < 10.0 for r in res["lift"]), res["lift"]

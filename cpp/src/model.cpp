@@ -76,6 +76,9 @@ std::vector<ParamSlot> energy_slots() {
         "stretch rest length S at full press (p = 1), as a fraction of r_i"),
       F("spread_bend_gain", "1/rad^2", 0.0, 10.0, &BrushModel::spread_bend_gain,
         "extra S per rad^2 of bend at the node (saturating: at most 4 rad^2 of bend count)"),
+      F("spread_reach", "-", 0.0, 4.0, &BrushModel::spread_reach,
+        "p_i, the pressed proportion that sets the stretch rest length S, counts the segment above "
+        "node i and this many segments above that (fractional; 0: the segment above alone)"),
       F("internal_friction", "-", 0.0, 10.0, &BrushModel::internal_friction,
         "internal-friction kappa / spring kappa, on the change since the last frame"),
       F("friction_along", "-", 0.0, 5.0, &BrushModel::friction_along,

@@ -34,6 +34,7 @@ struct BrushModel {
   double lateral_bend_stiffness = 0.5;  // N*mm, lateral bend springs at the root (scaled like kappa_j)
   double spread_gain = 1.5;             // S at full press, as a fraction of r_i
   double spread_bend_gain = 0.5;        // 1/rad^2, S x (1 + this 4 tanh(theta^2 / 4)) at bend theta
+  double spread_reach = 0.0;            // p_i counts the segment above node i and this many segments above that
 
   // --- dissipation ---
   double internal_friction = 0.1;       // internal-friction kappa / spring kappa (same form, on the change since last frame); 0.3 made dragged footprints flip size every other frame

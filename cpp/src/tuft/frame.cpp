@@ -64,8 +64,8 @@ double outer_low(const Tuft& t, const Workspace& w, int i) {
   return w.O[i].z() - detail::section_reach(t, w, i);
 }
 
-// a pressed node's stretches delta = 0 (a saddle of |delta^2 - S|^m, where d/d delta vanishes)
-// get a minimal value; true if one moved
+// a pressed node's stretches delta = 0 (a saddle of |delta^2 - S|^m when S > 0, where d/d delta
+// vanishes) get a minimal value; true if one moved
 bool kick_stretches(const Tuft& t, BrushState& s, int i) {
   bool kicked = false;
   const double kick = std::sqrt(kStretchKick * t.r0[i]);  // sqrt(mm)
@@ -93,7 +93,11 @@ bool kick_pressed(const Tuft& t, BrushState& s, const Workspace& w) {
       straight = false;
       kicked = true;
     }
-    if (t.model.lateral_spreading && kick_stretches(t, s, i)) kicked = true;
+    // with spread_reach > 0, only where last frame's p_i > 0: a node under the paper whose
+    // window is not yet pressed has S = 0, where delta = 0 is the minimum (a kick there is undone
+    // by a slow quartic descent every frame, and a still pose never sleeps)
+    const bool spreads = s.p[i] > 0.0 || !(t.model.spread_reach > 0.0);
+    if (t.model.lateral_spreading && spreads && kick_stretches(t, s, i)) kicked = true;
   }
   return kicked;
 }
@@ -147,22 +151,40 @@ int node_contact(const Tuft& t, BrushState& s, const Workspace& w, int i, double
   return count;
 }
 
+// p_i over the spine from O_{i-1-reach} down to O_i: the segment above node i (the seed's
+// "associated tuft segment") and `reach` segments above it (fractional: the lower part of the
+// last), each segment's proportion under the paper weighted by its length l_j; low[k] is the
+// lowest point of node k's unstretched section.  With the segment above alone, p_i reaches 1
+// as soon as node i-1 touches, and S = spread_gain r_i p_i stops growing: the widest section
+// on the paper stops widening while the next one up, whose centre is still above the paper,
+// cuts a narrower chord, and the footprint's width stands still over a range of press (a small
+// brush dragged at 15 deg: 5.2 mm from 0.22 to 0.30 L, then 7.5 mm by 0.35 L).  The longer
+// window lets each node spread until the one above has overtaken it (the model parameter
+// spread_reach, 0 by default: the seed's segment above alone)
+double window_proportion(const Tuft& t, const double* low, int i) {
+  const double reach = t.model.spread_reach;
+  if (!(reach > 0.0)) return pressed_proportion(low[i - 1], low[i]);
+  double under = t.len[i - 1] * pressed_proportion(low[i - 1], low[i]), span = t.len[i - 1];
+  for (int j = i - 2; j >= 0 && i - 2 - j < reach; --j) {
+    const double f = std::min(1.0, reach - (i - 2 - j));  // the share of segment j in the window
+    under += f * t.len[j] * pressed_proportion(low[j + 1] + f * (low[j] - low[j + 1]), low[j + 1]);
+    span += f * t.len[j];
+  }
+  return under / span;
+}
+
 // frozen contact set at the first iterate.  p_i is measured on the unstretched section (radius
 // r_i in the section plane), not on the spread one: measured on the spread surface, spreading
 // (which flattens c) would lower p_i and so undo itself next frame, a period-2 cycle between
 // frames.  Returns whether the tip node touches.
 bool contact_set(const Tuft& t, BrushState& s, const Workspace& w) {
-  auto rest_low = [&](int i) {
-    return w.O[i].z() - t.r0[i] * std::sqrt(std::max(0.0, 1.0 - w.nrm[i].z() * w.nrm[i].z()));
-  };
+  double low[kMaxSegments + 1];
+  for (int i = 0; i <= t.n; ++i)
+    low[i] = w.O[i].z() - t.r0[i] * std::sqrt(std::max(0.0, 1.0 - w.nrm[i].z() * w.nrm[i].z()));
   s.contacts = 0;
   bool tip_touch = false;
-  double h_above = rest_low(0);
   for (int i = 1; i <= t.n; ++i) {
-    const double h = rest_low(i);
-    const double p_new = pressed_proportion(h_above, h);
-    h_above = h;
-    const int count = node_contact(t, s, w, i, p_new);
+    const int count = node_contact(t, s, w, i, window_proportion(t, low, i));
     s.contacts += count;
     if (i == t.n && count > 0) tip_touch = true;
     s.txy[i] = w.F[i - 1].col(2).head<2>();
