@@ -505,3 +505,20 @@ def test_a_closed_line_has_no_gap_at_its_seam(style):
     ix = np.round(pts).astype(int)
     around = [ink[y - 2:y + 3, x - 2:x + 3].any() for x, y in ix]
     assert all(around), np.degrees(a[~np.array(around)])
+
+
+def test_a_depth_jump_is_a_step_the_surface_slope_does_not_explain():
+    """The truth the outlines are scored against: a sheet ending a few pixels' width in front of
+    another is a line however small that is against the mesh, a plane seen at a grazing angle
+    (steps of many pixels' width, all alike) is none."""
+    from brushwork.bench.outline import depth_jumps
+
+    x = np.arange(64, dtype=float)
+    pixel = np.full((64, 64), 0.01)
+    grazing = np.tile(0.5 * x, (64, 1))                        # 50 pixel widths a step, steadily
+    area = np.ones((64, 64), bool)
+    assert not depth_jumps(grazing, area, pixel).any()
+    tail = grazing + np.where(np.abs(x - 32) < 6, -0.08, 0.0)  # a strip 8 pixel widths nearer
+    jumps = depth_jumps(tail, area, pixel)
+    assert set(np.flatnonzero(jumps.any(axis=0))) == {26, 27, 37, 38}    # either side of its two edges
+    assert not depth_jumps(grazing + np.where(np.abs(x - 32) < 6, -0.02, 0.0), area, pixel).any()
