@@ -471,6 +471,35 @@ def test_camera_from_a_gltf_scene(tmp_path, capsys):
     assert err.count("\n") == 1 and "no camera" in err
 
 
+def test_camera_picks_a_named_camera_of_the_scene(tmp_path, capsys):
+    """`--camera NAME` draws through the scene's camera of that name, its node placed by its
+    parent's transform (a rig turned 90 degrees about y holding a camera 8 units off); without
+    it, the first camera; a name not there is one line listing the names."""
+    import cv2
+
+    half = np.sin(np.radians(45.0))
+    scene = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+             "nodes": [{"name": "Front", "camera": 0, "translation": [0.0, 0.0, 8.0]},
+                       {"name": "rig", "rotation": [0.0, half, 0.0, half], "children": [2]},
+                       {"name": "Side", "camera": 1, "translation": [1.0, 0.0, 8.0]}],
+             "cameras": [{"type": "perspective", "perspective": {"yfov": np.radians(40.0), "znear": 0.1}}] * 2}
+    cams = tmp_path / "cams.gltf"
+    cams.write_text(json.dumps(scene))
+    src, out = tmp_path / "ball.ply", tmp_path / "b.png"
+    trimesh.creation.icosphere(subdivisions=3).export(src)
+    focal = 0.5 * SIZE / np.tan(np.radians(20.0))
+    for name, centre_x in ((None, 0.5 * SIZE), ("Side", 0.5 * SIZE - focal / 8.0)):
+        pick = ["--camera", name] if name else []
+        assert main(["outline", str(src), "-o", str(out), "--size", str(SIZE), "--camera-from", str(cams)] + pick) == 0
+        ys, xs = np.nonzero(cv2.imread(str(out), cv2.IMREAD_GRAYSCALE) < 128)
+        assert abs(0.5 * (xs.min() + xs.max()) - centre_x) < 4 and abs(0.5 * (ys.min() + ys.max()) - 0.5 * SIZE) < 4
+    out.unlink()
+    assert main(["outline", str(src), "-o", str(out), "--camera-from", str(cams), "--camera", "Top"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "'Top'" in err and "'Front', 'Side'" in err and not out.exists(), err
+    assert main(["outline", str(src), "-o", str(out), "--camera", "Side"]) == 2
+    assert "--camera-from" in capsys.readouterr().err
+
 def test_a_line_thins_where_it_runs_behind_a_nearer_one():
     """A small ball half behind a big one (an ear behind a head): its outline's width falls by
     the style's occlusion thinning where it meets the big ball's outline, not away from it."""

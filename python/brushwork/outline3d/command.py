@@ -35,7 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     lens.add_argument("--fov", type=finite, default=30.0, help="vertical field of view, 1..120 degrees (default 30)")
     lens.add_argument("--orthographic", action="store_true", help="an orthographic camera")
     p.add_argument("--camera-from", metavar="SCENE", help="the camera of a glTF/GLB scene (its first perspective "
-                   "camera; the mesh may be the same file) instead of --azimuth, --elevation and --fov")
+                   "camera, or --camera's; the mesh may be the same file) instead of --azimuth, --elevation and --fov")
+    p.add_argument("--camera", metavar="NAME", help="with --camera-from: the scene's camera of that name (its node's "
+                   "name, else its camera's)")
     p.add_argument("--lines", default="silhouette,boundary,crease",
                    help=f"kinds of line, comma-separated from {','.join(KINDS)} (default silhouette,boundary,crease)")
     p.add_argument("--crease-angle", type=finite, default=60.0, help="dihedral angle past which an edge is a crease "
@@ -111,6 +113,8 @@ def _check(args: argparse.Namespace) -> None:
         raise ValueError("--frames N needs --orbit")
     if args.camera_from and (args.orbit or args.orthographic):
         raise ValueError("--camera-from takes the scene's camera: not with --orbit or --orthographic")
+    if args.camera is not None and not args.camera_from:
+        raise ValueError("--camera NAME picks a camera of --camera-from SCENE, which is missing")
     if os.path.splitext(args.output)[1].lower() not in OUTPUTS:
         raise ValueError(f"{args.output}: the output must be a {' or '.join(OUTPUTS)} file")
 
@@ -135,7 +139,7 @@ def run(args: argparse.Namespace) -> int:
     from ..files import check_writable
     from .draw import View, draw, load_mesh
     from .lines import prepare
-    from .meshfile import scene_camera
+    from .gltf import scene_camera
     from .vector import write_svg
 
     _check(args)
@@ -155,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
     for note in warnings + surface.notes:
         print(f"brushwork: warning: {args.mesh}: {note}", file=sys.stderr)
     fov = 0.0 if args.orthographic else args.fov
-    pose = scene_camera(args.camera_from) if args.camera_from else None
+    pose = scene_camera(args.camera_from, args.camera) if args.camera_from else None
     frames = []
     for k in range(args.frames):
         view = View(args.azimuth + 360.0 * k / args.frames, args.elevation, fov, (args.size, args.size), pose)
