@@ -421,27 +421,62 @@ def test_depth_weight_makes_the_nearer_line_wider():
     assert ratios[1] >= 1.3 and ratios[1] > ratios[0] + 0.25, ratios
 
 
-def test_svg_strokes_match_the_png(tmp_path):
-    """`-o x.svg`: one filled path per stroke, grouped by kind, which a real SVG renderer draws
-    as the PNG shows the ink (IoU of the dark pixels >= 0.97; rendered without antialiasing, a
-    pixel dark where its centre is inside a path, as the PNG's pixel is dark where its ink is)."""
+def _dark(data: bytes) -> np.ndarray:
+    import cv2
+
+    return cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_GRAYSCALE) < 128
+
+
+def _iou(a: np.ndarray, b: np.ndarray) -> float:
+    assert a.shape == b.shape
+    return float((a & b).sum() / (a | b).sum())
+
+
+def _outline_files(tmp_path, src, outputs, *options) -> list:
+    """Run `outline` on src once per output name with the options; each run's stats."""
+    stats = []
+    for name in outputs:
+        assert main(["outline", str(src), "-o", str(tmp_path / name), "--size", "512", "--lines", "silhouette,crease",
+                     "--stats", str(tmp_path / f"{name}.json"), *options]) == 0
+        stats.append(json.loads((tmp_path / f"{name}.json").read_text())["frames"][0])
+    return stats
+
+
+@pytest.mark.parametrize("ink", ["geometry", "gl"])
+def test_svg_and_pdf_strokes_match_the_png(tmp_path, ink):
+    """`-o x.svg` / `x.pdf`: one filled path per stroke (the SVG's grouped by kind), from the
+    stroke's region where the ink is geometry (the default for an opaque scene), traced from
+    the coverage where it is gl; real renderers draw them as the PNG of that ink shows it: resvg
+    the SVG, PDFium the PDF (the same paths as the SVG's; IoU of the dark pixels >= 0.97, both
+    against the PNG where the paths are geometry; without antialiasing, a pixel dark where its
+    centre is inside a path, as the PNG's pixel is dark where its ink is)."""
     import cv2
     resvg = pytest.importorskip("resvg_py")
+    pdfium = pytest.importorskip("pypdfium2")
 
-    head = lowpoly_set()["faceted_head"]
     src = tmp_path / "head.ply"
-    head.export(src)
-    for ext in ("png", "svg"):
-        assert main(["outline", str(src), "-o", str(tmp_path / f"h.{ext}"), "--size", "512",
-                     "--lines", "silhouette,crease", "--stats", str(tmp_path / f"{ext}.json")]) == 0
+    lowpoly_set()["faceted_head"].export(src)
+    png, svg, pdf = _outline_files(tmp_path, src, ["h.png", "h.svg", "h.pdf"], "--ink", ink)
+    assert png["ink"] == svg["ink"] == pdf["ink"] == ink
     text = (tmp_path / "h.svg").read_text()
-    strokes = json.loads((tmp_path / "svg.json").read_text())["frames"][0]["strokes"]
-    assert text.count("<path ") == strokes and '<g id="silhouette"' in text and '<g id="crease"' in text
+    assert text.count("<path ") == svg["strokes"] and '<g id="silhouette"' in text and '<g id="crease"' in text
     assert text.index('<g id="silhouette"') < text.index('<g id="crease"')        # the outline drawn first
-    png = cv2.imread(str(tmp_path / "h.png"), cv2.IMREAD_GRAYSCALE) < 128
-    raster = resvg.svg_to_bytes(svg_path=str(tmp_path / "h.svg"), shape_rendering="crisp_edges")
-    svg = cv2.imdecode(np.frombuffer(raster, np.uint8), cv2.IMREAD_GRAYSCALE) < 128
-    assert svg.shape == png.shape and (png & svg).sum() / (png | svg).sum() >= 0.97
+    ink_png = cv2.imread(str(tmp_path / "h.png"), cv2.IMREAD_GRAYSCALE) < 128
+    ink_svg = _dark(resvg.svg_to_bytes(svg_path=str(tmp_path / "h.svg"), shape_rendering="crisp_edges"))
+    assert _iou(ink_png, ink_svg) >= 0.97
+    page = pdfium.PdfDocument(str(tmp_path / "h.pdf"))[0]
+    assert np.allclose(page.get_size(), OutlineStyle.load("baimiao").paper_mm * 72.0 / 25.4, rtol=1e-4)   # the paper
+    ink_pdf = page.render(scale=512 / page.get_size()[0], no_smoothpath=True).to_numpy()[..., :3].min(axis=2) < 128
+    assert _iou(ink_svg, ink_pdf) >= 0.97 and (ink != "geometry" or _iou(ink_png, ink_pdf) >= 0.97)
+
+
+def test_geometry_ink_is_refused_for_a_textured_style(tmp_path, capsys):
+    src = tmp_path / "t.ply"
+    trimesh.creation.icosphere(subdivisions=1).export(src)
+    out = tmp_path / "t.svg"
+    assert main(["outline", str(src), "-o", str(out), "--style", "xieyi", "--ink", "geometry"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--ink geometry" in err and "xieyi" in err and not out.exists(), err
 
 
 def test_camera_from_a_gltf_scene(tmp_path, capsys):

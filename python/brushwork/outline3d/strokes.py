@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import _core
 from ..brush import Brush, Pose
-from ..paper import Paper
+from ..paper import make_paper
 from ..recorded import HOVER, along_path
 from ..scene import Scene
 from ..writing.driver import PRESS_MAX
@@ -57,12 +57,20 @@ class OutlineDrawer:
 
     _calibrations: dict = {}     # (preset, tilt, step, press) -> the calibration's presses and widths
 
-    def __init__(self, style: OutlineStyle, size: tuple[int, int]):
+    def __init__(self, style: OutlineStyle, size: tuple[int, int], ink: str = "gl", stroke_regions: bool = False):
+        """ink: the paper's ink path (paper.INK_PATHS); stroke_regions: keep each stroke's own
+        region as geometry (`stroke_loops`) where the ink is geometry."""
         self.style = style
         w, h = size
         self.ppm = max(w, h) / style.paper_mm
         self.height_px = h
-        self.paper = Paper(w / self.ppm, h / self.ppm, self.ppm, scene=Scene(**style.scene))
+        scene = Scene(**style.scene)
+        self.paper = make_paper(w / self.ppm, h / self.ppm, self.ppm, scene, ink)
+        # a second geometry paper that holds the stroke being drawn only, deposited without ink
+        # (so none is spent twice), cleared as its region is taken
+        geometry = stroke_regions and self.paper.inked_by == "geometry"
+        self.stroke_paper = _core.VectorPaper(self.paper.width_mm, self.paper.height_mm, self.ppm, scene,
+                                              self.paper.tolerance) if geometry else None
         self.brush = Brush(style.preset)
         self.times = StrokeTimes()
         self._since_dip = None
@@ -109,8 +117,18 @@ class OutlineDrawer:
                            step_mm=st.step_mm, approach_frames=APPROACH_FRAMES, lift_frames=LIFT_FRAMES, hover=HOVER)
         self._follow(poses)
         self.paper.end_stroke()
+        if self.stroke_paper is not None:
+            self.stroke_paper.end_stroke()
         self.times.strokes += 1
         self.times.frames += len(poses)
+
+    def stroke_loops(self) -> list:
+        """The region of the strokes drawn since the last call (geometry ink, `stroke_regions`)
+        as closed loops (k, 2) px, x right, y down; none overlapping, holes inside."""
+        loops = [np.column_stack([p[:, 0], self.paper.height_mm - p[:, 1]]) * self.ppm
+                 for p in self.stroke_paper.outlines()]
+        self.stroke_paper.clear()
+        return loops
 
     def _scratch(self, press: np.ndarray, length_mm: float) -> list:
         """Footprint widths (mm) a frame of a straight stroke of `length_mm` at the presses
@@ -174,6 +192,8 @@ class OutlineDrawer:
             t1 = time.perf_counter()
             if deposit:
                 self.paper.deposit(self.brush)
+                if self.stroke_paper is not None:
+                    self.stroke_paper.deposit(self.brush)
             loops = self.brush.footprint()
             seen = _core.footprint_span(loops, float(a)) if loops else None
             if seen is not None:
