@@ -224,6 +224,31 @@ def _faceted_head():
                            np.vstack([mesh.faces, [[b, a, centre]]]), process=False)
 
 
+def bunny_blob():
+    """A smooth bunny of a few thousand faces in the manner of the Stanford bunny's pose: an
+    egg of a body, a head forward and up, two long ears leaning back, a tail; each part a
+    shell of its own through the body (their intersections are where lines meet)."""
+    import trimesh
+
+    body = trimesh.creation.icosphere(subdivisions=3)
+    body.apply_scale([0.75, 0.7, 1.0])
+    head = trimesh.creation.icosphere(subdivisions=3, radius=0.42)
+    head.apply_scale([1.0, 0.9, 1.1])
+    head.apply_translation([0.0, 0.55, 0.75])
+    parts = [body, head]
+    for side in (-1.0, 1.0):
+        ear = trimesh.creation.capsule(height=0.7, radius=0.1, count=[24, 12])
+        ear.apply_scale([0.45, 1.0, 1.0])                   # flat, broad seen from the front
+        turn = trimesh.transformations.rotation_matrix(np.radians(-120.0), [1.0, 0.0, 0.0])    # up and back
+        tilt = trimesh.transformations.rotation_matrix(np.radians(side * -15.0), [0.0, 0.0, 1.0])
+        ear.apply_transform(tilt @ turn)
+        ear.apply_translation([side * 0.2, 1.22, 0.48])
+        parts.append(ear)
+    tail = trimesh.creation.icosphere(subdivisions=2, radius=0.18)
+    tail.apply_translation([0.0, 0.1, -1.0])
+    return trimesh.util.concatenate(parts + [tail])
+
+
 def lowpoly_set() -> dict:
     """Faceted and low-poly test meshes by name (trimesh objects): icospheres of subdivision
     0..2, a torus of few sections, a box, a bevelled box and a faceted head."""
@@ -274,7 +299,7 @@ def run(args, progress=None) -> dict:
     files = mesh_files(args.meshes) if args.meshes else []
     results = [_measure(p, args, progress) for p in files]
     with tempfile.TemporaryDirectory() as tmp:
-        made = {} if args.no_lowpoly else lowpoly_set()
+        made = {} if args.no_lowpoly else {**lowpoly_set(), "bunny_blob": bunny_blob()}
         if not args.no_synthetic:
             made[f"bumpy_torus_{SYNTH_FACES}"] = bumpy_torus()
         for name, mesh in made.items():
