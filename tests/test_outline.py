@@ -339,6 +339,27 @@ def test_no_hook_or_bead_at_a_line_end(style):
         assert past.max() <= 1.0, (style, pts[-1], past.max())
 
 
+@pytest.mark.parametrize("style", ["baimiao", "xieyi"])
+def test_lines_meeting_at_a_t_junction_meet_cleanly(style):
+    """A line starting on another (a T-junction) is inked from the junction on, so the two
+    touch, and pokes through the other by at most 1 px (no crossing tick); one ending on it
+    likewise (its free end is the other tests')."""
+    from brushwork.outline3d.chains import Chain
+    from brushwork.outline3d.strokes import OutlineDrawer
+
+    t = np.linspace(0.0, 1.0, 100)[:, None]
+    bar = np.array([200.0, 400.0]) + t * [600.0, 0.0]
+    for stem in (np.array([500.0, 400.0]) + t * [0.0, 300.0], np.array([500.0, 700.0]) - t * [0.0, 300.0]):
+        drawer = OutlineDrawer(OutlineStyle.load(style), (1024, 1024))
+        for pts in (bar, stem):
+            drawer.draw(Chain(pts, np.zeros(len(pts)), SILHOUETTE))
+        ink = drawer.paper.ink() > 0.25
+        column = ink[:, 494:507].any(axis=1)                   # along the stem
+        assert column[400:680].all(), (style, np.flatnonzero(~column[400:680])[:5] + 400)   # from the bar on
+        bar_top = np.flatnonzero(ink[:, 300:320].any(axis=1)).min()     # the bar's upper edge, away from the stem
+        assert np.flatnonzero(column).min() >= bar_top - 1, (style, np.flatnonzero(column).min(), bar_top)
+
+
 @pytest.mark.parametrize("option", ["--azimuth", "--elevation", "--fov", "--crease-angle", "--depth-weight"])
 @pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
 def test_float_options_refuse_non_finite_values(tmp_path, capsys, option, value):
