@@ -16,13 +16,13 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..ink.vectors import MM_TO_PT, pdf_page
 from .lines import KINDS
 
 TRACE_SCALE = 8          # the coverage is traced at this many times the image's resolution
 LEVEL = 0.5              # coverage (times the stroke's opacity) of the traced edge: the PNG's mid-grey
 CHANGED = 1e-4           # coverage a stroke adds to a pixel it touches
 SIMPLIFY_PX = 0.1        # the traced outline is simplified to within this many px
-MM_TO_PT = 72.0 / 25.4
 VECTOR_SUFFIXES = (".svg", ".pdf")
 
 
@@ -118,26 +118,11 @@ def _pdf_ops(shapes: list, height: int, scale: float, alphas: list) -> str:
 def pdf_bytes(shapes: list, size: tuple, px_per_mm: float) -> bytes:
     """A one-page PDF of W / px_per_mm x H / px_per_mm mm: each stroke's path filled with black
     at its opacity, in draw order."""
-    import zlib
-
     w, h = size
     scale = MM_TO_PT / px_per_mm
     alphas = sorted({round(s.alpha, 3) for s in shapes if s.alpha < 1.0})
     states = " ".join(f"/A{k} << /Type /ExtGState /ca {a:.3f} >>" for k, a in enumerate(alphas))
-    stream = zlib.compress(_pdf_ops(shapes, h, scale, alphas).encode("ascii"))
-    objects = [b"<< /Type /Catalog /Pages 2 0 R >>", b"<< /Type /Pages /Kids [3 0 R] /Count 1 >>",
-               (f"<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w * scale:.3f} {h * scale:.3f}] /Contents 4 0 R "
-                f"/Resources << /ExtGState << {states} >> >> >>").encode(),
-               f"<< /Length {len(stream)} /Filter /FlateDecode >>\nstream\n".encode() + stream + b"\nendstream"]
-    out, offsets = bytearray(b"%PDF-1.4\n"), []
-    for k, body in enumerate(objects, 1):
-        offsets.append(len(out))
-        out += f"{k} 0 obj\n".encode() + body + b"\nendobj\n"
-    xref = len(out)
-    out += f"xref\n0 {len(objects) + 1}\n0000000000 65535 f \n".encode()
-    out += b"".join(f"{o:010d} 00000 n \n".encode() for o in offsets)
-    out += f"trailer\n<< /Size {len(objects) + 1} /Root 1 0 R >>\nstartxref\n{xref}\n%%EOF\n".encode()
-    return bytes(out)
+    return pdf_page(_pdf_ops(shapes, h, scale, alphas), w * scale, h * scale, f"/ExtGState << {states} >>")
 
 
 def write_vector(path: str | os.PathLike, shapes: list, size: tuple, px_per_mm: float) -> str:
