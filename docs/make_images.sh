@@ -20,10 +20,11 @@ trap 'rm -rf "$work"' EXIT
 # 3-D outlines: the meshes of $BRUSHWORK_MESHES (default the shared test meshes) in two styles
 "$py" -m brushwork.outline3d.sheet --meshes "${BRUSHWORK_MESHES:-../shared/data/meshes}" \
   --styles baimiao,xieyi --size 400 -o docs/outlines.png
-# ... and low-poly meshes of the generated test set (bench outline's)
+# ... and meshes of bench outline's generated set: low-poly ones and a smooth bunny
 mkdir -p "$work/lowpoly"
-"$py" -c 'import sys; from brushwork.bench.outline import lowpoly_set; m = lowpoly_set()
-for name in sys.argv[2:]: m[name].export(f"{sys.argv[1]}/{name}.ply")' "$work/lowpoly" box faceted_head torus_lowpoly
+"$py" -c 'import sys; from brushwork.bench.outline import bunny_blob, lowpoly_set; m = lowpoly_set()
+m["bunny_blob"] = bunny_blob()
+for name in sys.argv[2:]: m[name].export(f"{sys.argv[1]}/{name}.ply")' "$work/lowpoly" box bunny_blob faceted_head torus_lowpoly
 "$py" -m brushwork.outline3d.sheet --meshes "$work/lowpoly" --styles baimiao,xieyi --size 400 -o docs/outlines_lowpoly.png
 # a line set in a brushwork font by headless Chromium (needs chromium and chromium-driver)
 fonts="$work/font"

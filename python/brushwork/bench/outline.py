@@ -5,7 +5,8 @@ Per view, against the depth buffer of the mesh (the truth the drawing is judged 
 - silhouette recall: of the pixels on the boundary of the mesh's projected area (outer outline
   and holes), the share with ink within TOL of the image size;
 - precision: of the ink pixels, the share within TOL of a true visible line (the projected
-  area's boundary, a jump in depth, a visible crease or mesh boundary);
+  area's boundary, a jump in depth past what the surface's slope explains, a visible crease or
+  mesh boundary);
 - the silhouettes' median ink width over the creases' (twice the ink's distance to its edge on
   the chains' centre lines), where both are drawn;
 - the median visible chain's length over the image diagonal, chains and strokes;
@@ -37,7 +38,7 @@ TOL = 0.015              # of the image size: how far ink may lie from the line 
 VIEWS = 8
 ORBIT_VIEWS = 36
 COHERENCE_PX = 2         # px each mask is widened by before the IoU
-DEPTH_JUMP = 0.02        # of the mesh's diagonal: a jump in depth between neighbouring pixels
+JUMP_PX = 4.0            # px widths past the surface's own slope: a jump in depth between neighbouring pixels
 INK = 0.25               # coverage above which a pixel counts as ink
 SYNTH_FACES = 70000
 
@@ -62,6 +63,30 @@ def _mask_distance(mask: np.ndarray) -> np.ndarray:
     return cv2.distanceTransform((~mask).astype(np.uint8), cv2.DIST_L2, 5)
 
 
+def depth_jumps(dist: np.ndarray, area: np.ndarray, pixel: np.ndarray) -> np.ndarray:
+    """(H, W) bool: pixels beside a jump in the eye distance `dist` (mesh units, over the
+    covered `area`) that the surface's own slope does not explain.  Between neighbours p, q
+    along a row or column, the slope on each side (p's from its other neighbour, q's from
+    its) carried across the step predicts the other's distance; the step is a jump when both
+    predictions miss by more than JUMP_PX times the width `pixel` of a pixel there: a sheet
+    ending in front of another, however close behind it lies, and not a surface seen at a
+    grazing angle, whose steps are large but steady."""
+    jump = np.zeros_like(area)
+    for axis in (0, 1):
+        d = np.moveaxis(dist, axis, 0)
+        a = np.moveaxis(area, axis, 0)
+        w = np.moveaxis(pixel, axis, 0)
+        step = d[2:-1] - d[1:-2]                      # between p = 1..n-3 and q = p + 1
+        miss_p = np.abs(step - (d[1:-2] - d[:-3]))    # p's slope carried on to q
+        miss_q = np.abs(step - (d[3:] - d[2:-1]))     # q's slope carried back to p
+        both = a[:-3] & a[1:-2] & a[2:-1] & a[3:]
+        big = both & (np.minimum(miss_p, miss_q) > JUMP_PX * np.minimum(w[1:-2], w[2:-1]))
+        out = np.moveaxis(jump, axis, 0)
+        out[1:-2] |= big
+        out[2:-1] |= big
+    return jump
+
+
 def truth(drawing) -> tuple[np.ndarray, np.ndarray]:
     """The projected area's boundary and every true visible line, (H, W) bool each."""
     import cv2
@@ -70,16 +95,7 @@ def truth(drawing) -> tuple[np.ndarray, np.ndarray]:
     area = np.isfinite(depth)
     rim = area & ~cv2.erode(area.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
     dist = np.where(area, camera.eye_distance(np.where(area, depth, 0.0).astype(np.float64)), 0.0)
-    diag = float(np.linalg.norm(drawing.lines.points.max(axis=0) - drawing.lines.points.min(axis=0))) \
-        if len(drawing.lines.points) else 1.0
-    jump = np.zeros_like(area)
-    for axis in (0, 1):
-        step = np.abs(np.diff(dist, axis=axis)) > DEPTH_JUMP * diag
-        step &= np.diff(area.astype(np.int8), axis=axis) == 0
-        pad = [(0, 0), (0, 0)]
-        pad[axis] = (0, 1)
-        jump |= np.pad(step, pad)
-    lines = rim | jump
+    lines = rim | depth_jumps(dist, area, camera.pixel_size(dist))
     canvas = np.zeros(area.shape, np.uint8)
     for c in drawing.chains:
         if c.visible and c.kind in (1, 2):                     # boundary, crease
@@ -208,6 +224,31 @@ def _faceted_head():
                            np.vstack([mesh.faces, [[b, a, centre]]]), process=False)
 
 
+def bunny_blob():
+    """A smooth bunny of a few thousand faces in the manner of the Stanford bunny's pose: an
+    egg of a body, a head forward and up, two long ears leaning back, a tail; each part a
+    shell of its own through the body (their intersections are where lines meet)."""
+    import trimesh
+
+    body = trimesh.creation.icosphere(subdivisions=3)
+    body.apply_scale([0.75, 0.7, 1.0])
+    head = trimesh.creation.icosphere(subdivisions=3, radius=0.42)
+    head.apply_scale([1.0, 0.9, 1.1])
+    head.apply_translation([0.0, 0.55, 0.75])
+    parts = [body, head]
+    for side in (-1.0, 1.0):
+        ear = trimesh.creation.capsule(height=0.7, radius=0.1, count=[24, 12])
+        ear.apply_scale([0.45, 1.0, 1.0])                   # flat, broad seen from the front
+        turn = trimesh.transformations.rotation_matrix(np.radians(-120.0), [1.0, 0.0, 0.0])    # up and back
+        tilt = trimesh.transformations.rotation_matrix(np.radians(side * -15.0), [0.0, 0.0, 1.0])
+        ear.apply_transform(tilt @ turn)
+        ear.apply_translation([side * 0.2, 1.22, 0.48])
+        parts.append(ear)
+    tail = trimesh.creation.icosphere(subdivisions=2, radius=0.18)
+    tail.apply_translation([0.0, 0.1, -1.0])
+    return trimesh.util.concatenate(parts + [tail])
+
+
 def lowpoly_set() -> dict:
     """Faceted and low-poly test meshes by name (trimesh objects): icospheres of subdivision
     0..2, a torus of few sections, a box, a bevelled box and a faceted head."""
@@ -258,7 +299,7 @@ def run(args, progress=None) -> dict:
     files = mesh_files(args.meshes) if args.meshes else []
     results = [_measure(p, args, progress) for p in files]
     with tempfile.TemporaryDirectory() as tmp:
-        made = {} if args.no_lowpoly else lowpoly_set()
+        made = {} if args.no_lowpoly else {**lowpoly_set(), "bunny_blob": bunny_blob()}
         if not args.no_synthetic:
             made[f"bumpy_torus_{SYNTH_FACES}"] = bumpy_torus()
         for name, mesh in made.items():

@@ -45,11 +45,17 @@ def pdf_bytes(loops: list, width_mm: float, height_mm: float, rgb=(0.0, 0.0, 0.0
     for xy in _path_data(scaled, "{:.3f} {:.3f}", None):
         ops.append(xy[0] + " m " + " ".join(p + " l" for p in xy[1:]) + " h")
     ops.append("f")
-    stream = zlib.compress("\n".join(ops).encode("ascii"))
-    w, h = width_mm * MM_TO_PT, height_mm * MM_TO_PT
+    return pdf_page("\n".join(ops), width_mm * MM_TO_PT, height_mm * MM_TO_PT)
+
+
+def pdf_page(ops: str, width_pt: float, height_pt: float, resources: str = "") -> bytes:
+    """A one-page PDF of `width_pt` x `height_pt` points drawn by the content operators `ops`
+    (compressed), with the page's `resources` dictionary entries (e.g. graphics states)."""
+    stream = zlib.compress(ops.encode("ascii"))
     objects = [b"<< /Type /Catalog /Pages 2 0 R >>",
                b"<< /Type /Pages /Kids [3 0 R] /Count 1 >>",
-               f"<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w:.3f} {h:.3f}] /Contents 4 0 R >>".encode(),
+               (f"<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {width_pt:.3f} {height_pt:.3f}] /Contents 4 0 R "
+                f"/Resources << {resources} >> >>").encode(),
                f"<< /Length {len(stream)} /Filter /FlateDecode >>\nstream\n".encode() + stream + b"\nendstream"]
     out = bytearray(b"%PDF-1.4\n")
     offsets = []

@@ -10,7 +10,7 @@ import time
 
 from .lines import KINDS
 
-OUTPUTS = (".png", ".svg")
+OUTPUTS = (".png", ".svg", ".pdf")
 
 
 def finite(text: str) -> float:
@@ -26,8 +26,8 @@ def finite(text: str) -> float:
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("mesh", help="a triangle mesh: OBJ, PLY, STL, OFF, GLB or glTF")
-    p.add_argument("-o", "--output", metavar="FILE", required=True, help="the PNG, or SVG (each stroke a filled "
-                   "path, grouped by kind), to write (with --frames: FILE's name numbered, out_000.png ...)")
+    p.add_argument("-o", "--output", metavar="FILE", required=True, help="the PNG, or SVG or PDF (each stroke a "
+                   "filled path, the SVG grouped by kind), to write (with --frames: FILE's name numbered, out_000.png ...)")
     p.add_argument("--size", type=int, default=1024, help="image side in px, 64..4096 (default 1024)")
     p.add_argument("--azimuth", type=finite, default=30.0, help="degrees about the mesh's y axis (default 30)")
     p.add_argument("--elevation", type=finite, default=20.0, help="degrees above the horizon, -89..89 (default 20)")
@@ -35,7 +35,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     lens.add_argument("--fov", type=finite, default=30.0, help="vertical field of view, 1..120 degrees (default 30)")
     lens.add_argument("--orthographic", action="store_true", help="an orthographic camera")
     p.add_argument("--camera-from", metavar="SCENE", help="the camera of a glTF/GLB scene (its first perspective "
-                   "camera; the mesh may be the same file) instead of --azimuth, --elevation and --fov")
+                   "camera, or --camera's; the mesh may be the same file) instead of --azimuth, --elevation and --fov")
+    p.add_argument("--camera", metavar="NAME", help="with --camera-from: the scene's camera of that name (its node's "
+                   "name, else its camera's)")
     p.add_argument("--lines", default="silhouette,boundary,crease",
                    help=f"kinds of line, comma-separated from {','.join(KINDS)} (default silhouette,boundary,crease)")
     p.add_argument("--crease-angle", type=finite, default=60.0, help="dihedral angle past which an edge is a crease "
@@ -45,6 +47,10 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    "silhouette=1.0,crease=0.6,suggestive=0.4,boundary=0.8, each 0..3 (default: the style's)")
     p.add_argument("--depth-weight", type=finite, metavar="K", help="nearest line's width times 1 + K/2, "
                    "farthest's times 1 - K/2, 0..1.5 (default: the style's)")
+    p.add_argument("--ink", choices=("auto", "geometry", "gl"), help="how the ink is made: gl (the EGL footprint "
+                   "pass; the default for PNGs), geometry (each stroke's region in mm, swept between frames; the "
+                   "default for SVG and PDF, whose paths it gives) or auto (geometry unless the style's scene is "
+                   "textured: xieyi's dry and grain maps, whose strokes an SVG or PDF traces)")
     p.add_argument("--hidden", choices=("none", "faint"), default="none", help="hidden lines: not drawn, or drawn faint")
     p.add_argument("--camera-json", metavar="FILE", help='write {"size": [W, H], "matrix": 4x4 row-major}: vertex v '
                    "lands on pixel (p0/p3, p1/p3) of p = M [v, 1], y down from the top-left corner")
@@ -111,8 +117,21 @@ def _check(args: argparse.Namespace) -> None:
         raise ValueError("--frames N needs --orbit")
     if args.camera_from and (args.orbit or args.orthographic):
         raise ValueError("--camera-from takes the scene's camera: not with --orbit or --orthographic")
+    if args.camera is not None and not args.camera_from:
+        raise ValueError("--camera NAME picks a camera of --camera-from SCENE, which is missing")
     if os.path.splitext(args.output)[1].lower() not in OUTPUTS:
         raise ValueError(f"{args.output}: the output must be a {' or '.join(OUTPUTS)} file")
+
+
+def _check_ink(style, ink: str) -> None:
+    """ValueError naming --ink when the style's scene cannot take that ink path."""
+    from ..paper import ink_path
+    from ..scene import Scene
+
+    try:
+        ink_path(Scene(**style.scene), ink)
+    except ValueError as err:
+        raise ValueError(f"--ink {ink}: {str(err).split(': ', 1)[-1]} (style {style.name})") from None
 
 
 def numbered(path: str, k: int, frames: int) -> str:
@@ -135,13 +154,15 @@ def run(args: argparse.Namespace) -> int:
     from ..files import check_writable
     from .draw import View, draw, load_mesh
     from .lines import prepare
-    from .meshfile import scene_camera
-    from .vector import write_svg
+    from .gltf import scene_camera
+    from .vector import VECTOR_SUFFIXES, write_vector
 
     _check(args)
     kinds = _kinds(args.lines)
     style = _style(args)
-    svg = args.output.lower().endswith(".svg")
+    vector = os.path.splitext(args.output)[1].lower() in VECTOR_SUFFIXES
+    ink = args.ink or ("auto" if vector else "gl")
+    _check_ink(style, ink)
     for path in (args.output, args.camera_json, args.stats):
         if path:
             check_writable(path)
@@ -155,14 +176,15 @@ def run(args: argparse.Namespace) -> int:
     for note in warnings + surface.notes:
         print(f"brushwork: warning: {args.mesh}: {note}", file=sys.stderr)
     fov = 0.0 if args.orthographic else args.fov
-    pose = scene_camera(args.camera_from) if args.camera_from else None
+    pose = scene_camera(args.camera_from, args.camera) if args.camera_from else None
     frames = []
     for k in range(args.frames):
         view = View(args.azimuth + 360.0 * k / args.frames, args.elevation, fov, (args.size, args.size), pose)
-        drawing = draw(surface, view, style, kinds, args.crease_angle, args.hidden, vector=svg)
+        drawing = draw(surface, view, style, kinds, args.crease_angle, args.hidden, vector, ink)
         drawing.stats["seconds"]["load"] = load_s if k == 0 else 0.0
         path = numbered(args.output, k, args.frames)
-        out = write_svg(path, drawing.shapes, view.size) if svg else drawing.paper.save(path)
+        out = (write_vector(path, drawing.shapes, view.size, drawing.paper.px_per_mm) if vector
+               else drawing.paper.save(path))
         if args.camera_json:
             text = json.dumps(drawing.camera.to_json())
             _write_text(numbered(args.camera_json, k, args.frames), text)

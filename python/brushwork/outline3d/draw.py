@@ -110,25 +110,30 @@ def weights(chains: list, camera, style: OutlineStyle, diagonal: float) -> list:
 def _strokes(drawer: OutlineDrawer, order: list, camera, style: OutlineStyle, diagonal: float,
              vector: bool) -> list:
     """Draw the chains in `order`, each one stroke; with `vector`, each stroke's outline as it
-    is drawn (vector.StrokeShape)."""
+    is drawn (vector.StrokeShape): its region as geometry where the ink is geometry, else its
+    share of the paper's coverage, traced."""
     from . import vector as vec
 
     shapes = []
-    before = drawer.paper.ink() if vector else None
+    traced = vector and drawer.stroke_paper is None
+    before = drawer.paper.ink() if traced else None
     for c, w in zip(order, weights(order, camera, style, diagonal)):
         drawer.draw(c, w)
-        if vector:
+        alpha = 1.0 if c.visible else style.hidden_alpha
+        if traced:
             after = drawer.paper.ink()
-            alpha = 1.0 if c.visible else style.hidden_alpha
             shapes.append(vec.StrokeShape(c.kind, c.visible, alpha, vec.stroke_outline(before, after, alpha)))
             before = after
+        elif vector:
+            shapes.append(vec.StrokeShape(c.kind, c.visible, alpha, drawer.stroke_loops()))
     return shapes
 
 
 def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KINDS, crease_deg: float = 60.0,
-         hidden: str = "none", vector: bool = False) -> Drawing:
-    """Draw a prepared surface as `style` sees it from `view`; stats carry the time per phase;
-    with `vector`, the drawing's shapes carry each stroke's outline."""
+         hidden: str = "none", vector: bool = False, ink: str = "gl") -> Drawing:
+    """Draw a prepared surface as `style` sees it from `view` on a paper whose ink takes the path
+    `ink` (paper.INK_PATHS); stats carry the time per phase; with `vector`, the drawing's shapes
+    carry each stroke's outline."""
     times = {}
     t = time.perf_counter()
     camera = view.camera(surface.vertices)
@@ -144,13 +149,13 @@ def draw(surface: ln.Surface, view: View, style: OutlineStyle, kinds=DEFAULT_KIN
     min_px = style.min_length * math.hypot(*view.size)
     chains = ch.build(lines, camera, is_visible, min_px, style.smooth_passes)
     times["chaining"] = time.perf_counter() - t
-    drawer = OutlineDrawer(style, view.size)
+    drawer = OutlineDrawer(style, view.size, ink, stroke_regions=vector)
     # hidden lines first, faint, under the visible ones; then the silhouettes, with the freshest ink
     # of a drying brush, and the lighter kinds after them
     order = sorted((c for c in chains if c.visible or hidden == "faint"), key=lambda c: (c.visible, c.kind))
     shapes = _strokes(drawer, order, camera, style, surface.diagonal, vector)
     times["brush"], times["deposit"] = drawer.times.brush, drawer.times.deposit
     stats = {"faces": int(len(surface.faces)), "vertices": int(len(surface.vertices)),
-             **_line_stats(lines, chains, view.size), "strokes": drawer.times.strokes,
+             **_line_stats(lines, chains, view.size), "strokes": drawer.times.strokes, "ink": drawer.paper.inked_by,
              "frames": drawer.times.frames, "seconds": times}
     return Drawing(drawer.paper, camera, chains, depth, lines, stats, shapes)

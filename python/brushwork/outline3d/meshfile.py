@@ -148,22 +148,3 @@ def checked_faces(path: str, vertices: np.ndarray, faces: np.ndarray) -> tuple[n
         raise ValueError(f"{path}: no triangle whose vertices are in the file and finite ({'; '.join(notes)})")
     return vertices, faces, notes
 
-
-def scene_camera(path: str | os.PathLike) -> tuple[np.ndarray, float]:
-    """The first perspective camera of a glTF/GLB scene, as trimesh reads it: its camera-to-world
-    (4, 4) matrix and its vertical field of view (degrees).  ValueError when there is none."""
-    import trimesh
-
-    path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise ValueError(f"--camera-from {path}: no such file")
-    try:
-        scene = trimesh.load(path, force="scene")
-    except Exception as err:  # noqa: BLE001 - any reader failure is the file's fault, said in one line
-        raise ValueError(f"--camera-from {path}: not a readable scene ({type(err).__name__})") from None
-    if not scene.has_camera:
-        raise ValueError(f"--camera-from {path}: the scene has no camera (glTF/GLB perspective cameras are read)")
-    yfov = float(scene.camera.fov[1])
-    if not 0.0 < yfov < 180.0:
-        raise ValueError(f"--camera-from {path}: the camera's field of view {yfov:g} is not 0..180 degrees")
-    return np.asarray(scene.camera_transform, dtype=float), yfov

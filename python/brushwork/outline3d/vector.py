@@ -1,9 +1,10 @@
-"""Strokes as vector shapes: each stroke's ink outline as a filled path, written as SVG in draw
-order, grouped by kind.
+"""Strokes as vector shapes: each stroke's ink outline as a filled path, written as SVG or PDF in
+draw order (the SVG grouped by kind, in px; the PDF's page as large as the paper, in points).
 
-Where a stroke's outline comes from is one function, `stroke_outline`: here the stroke's share
-of the paper's coverage, traced.  The coverage is upsampled TRACE_SCALE times (bilinear) and
-its iso-line at the PNG's mid-grey traced (OpenCV contours, simplified to SIMPLIFY_PX), so the
+Where the ink is geometry (an opaque scene) a stroke's outline is its region as the paper swept
+it (OutlineDrawer.stroke_loops).  Otherwise it is the stroke's share of the paper's coverage,
+traced (`stroke_outline`): the coverage is upsampled TRACE_SCALE times (bilinear) and its
+iso-line at the PNG's mid-grey traced (OpenCV contours, simplified to SIMPLIFY_PX), so the
 outline lies within a fraction of a pixel of where the PNG turns from light to dark.
 """
 from __future__ import annotations
@@ -15,12 +16,14 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from ..ink.vectors import MM_TO_PT, pdf_page
 from .lines import KINDS
 
 TRACE_SCALE = 8          # the coverage is traced at this many times the image's resolution
 LEVEL = 0.5              # coverage (times the stroke's opacity) of the traced edge: the PNG's mid-grey
 CHANGED = 1e-4           # coverage a stroke adds to a pixel it touches
 SIMPLIFY_PX = 0.1        # the traced outline is simplified to within this many px
+VECTOR_SUFFIXES = (".svg", ".pdf")
 
 
 @dataclass
@@ -96,9 +99,37 @@ def svg_text(shapes: list, size: tuple) -> str:
     return "\n".join(out) + "\n"
 
 
-def write_svg(path: str | os.PathLike, shapes: list, size: tuple) -> str:
-    """Write `svg_text` atomically; returns the path."""
+def _pdf_ops(shapes: list, height: int, scale: float, alphas: list) -> str:
+    """The page's drawing operators: each stroke's loops (px, y down) as a path in points (y up)
+    filled even-odd with black, under the graphics state of its opacity where it is below 1."""
+    ops = ["0 0 0 rg"]
+    for s in shapes:
+        if not s.loops:
+            continue
+        path = []
+        for loop in s.loops:
+            xy = [f"{x * scale:.3f} {(height - y) * scale:.3f}" for x, y in loop]
+            path.append(xy[0] + " m " + " ".join(p + " l" for p in xy[1:]) + " h")
+        state = f"/A{alphas.index(round(s.alpha, 3))} gs " if s.alpha < 1.0 else ""
+        ops.append(f"q {state}" + " ".join(path) + " f* Q")
+    return "\n".join(ops)
+
+
+def pdf_bytes(shapes: list, size: tuple, px_per_mm: float) -> bytes:
+    """A one-page PDF of W / px_per_mm x H / px_per_mm mm: each stroke's path filled with black
+    at its opacity, in draw order."""
+    w, h = size
+    scale = MM_TO_PT / px_per_mm
+    alphas = sorted({round(s.alpha, 3) for s in shapes if s.alpha < 1.0})
+    states = " ".join(f"/A{k} << /Type /ExtGState /ca {a:.3f} >>" for k, a in enumerate(alphas))
+    return pdf_page(_pdf_ops(shapes, h, scale, alphas), w * scale, h * scale, f"/ExtGState << {states} >>")
+
+
+def write_vector(path: str | os.PathLike, shapes: list, size: tuple, px_per_mm: float) -> str:
+    """Write the shapes as the .svg or .pdf `path` names, atomically; returns the path."""
     from ..files import write_atomic
 
-    write_atomic(path, lambda tmp: Path(tmp).write_text(svg_text(shapes, size), encoding="utf-8"))
+    pdf = os.fspath(path).lower().endswith(".pdf")
+    data = pdf_bytes(shapes, size, px_per_mm) if pdf else svg_text(shapes, size).encode("utf-8")
+    write_atomic(path, lambda tmp: Path(tmp).write_bytes(data))
     return os.fspath(path)
