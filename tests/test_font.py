@@ -806,3 +806,21 @@ def test_gl_ink_is_traced_and_cached_apart(tmp_path):
     assert len(list((tmp_path / CACHE_DIR).iterdir())) == 2
     assert sanitize(tmp_path / "t.otf") is None
     assert _glyph_area(tmp_path / "t.otf", "十") == pytest.approx(_glyph_area(tmp_path / "g.otf", "十"), rel=0.03)
+
+
+def test_a_flat_curve_is_stored_as_a_line_and_a_bent_one_is_not():
+    """A curve whose handles lie on its chord becomes a line (one point, not three); one whose
+    handles stand off it stays a curve; a line back to the start is left to closePath."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    rec.moveTo((0, 0))
+    rec.curveTo((30, 0.2), (60, -0.2), (90, 0))        # flat: a line
+    rec.curveTo((100, 30), (100, 60), (90, 90))        # bent: a curve (cut at its x extreme)
+    rec.curveTo((60, 90.1), (30, 89.9), (0, 90))       # flat
+    rec.curveTo((0, 60.2), (0.1, 29.9), (0, 0))        # flat, back to the start
+    rec.closePath()
+    ops = [op for op, _ in tidy(rec).value]
+    assert ops == ["moveTo", "lineTo", "curveTo", "curveTo", "lineTo", "closePath"]
