@@ -824,3 +824,22 @@ def test_a_flat_curve_is_stored_as_a_line_and_a_bent_one_is_not():
     rec.closePath()
     ops = [op for op, _ in tidy(rec).value]
     assert ops == ["moveTo", "lineTo", "curveTo", "curveTo", "lineTo", "closePath"]
+
+
+def test_lines_that_go_on_in_one_direction_are_one_line():
+    """Two lines in a row along one direction (within half a unit) are stored as one; a line that
+    turns is kept."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    rec.moveTo((0, 0))
+    rec.lineTo((40, 0.3))
+    rec.lineTo((90, 0))            # on in the same direction: merged
+    rec.lineTo((90, 90))           # turns: kept
+    rec.lineTo((0, 90))
+    rec.closePath()
+    assert [(op, args[-1] if args else None) for op, args in tidy(rec).value] == [
+        ("moveTo", (0.0, 0.0)), ("lineTo", (90.0, 0.0)), ("lineTo", (90.0, 90.0)), ("lineTo", (0.0, 90.0)),
+        ("closePath", None)]

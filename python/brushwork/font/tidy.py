@@ -165,9 +165,28 @@ def _segments(start: np.ndarray, segments: list) -> list:
                 joined[-1] = ("curveTo", whole)
                 continue
         joined.append((op, pts))
-    out = [_straightened(op, c) for op, pts in joined for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])]
+    out = _merge_lines([_straightened(op, c) for op, pts in joined
+                        for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])])
     if len(out) > 1 and out[-1][0] == "lineTo" and np.abs(out[-1][1][-1] - start).max() < MIN_SEGMENT:
         out.pop()          # a straightened line back to the start: closePath draws it
+    return out
+
+
+def _merge_lines(segs: list) -> list:
+    """segs with each run of lines that goes on in one direction (the point between two of them
+    within FLAT_UNITS of the line joining their far ends, and between them) drawn as one line."""
+    out: list = []
+    for op, pts in segs:
+        if op == "lineTo" and out and out[-1][0] == "lineTo":
+            a, b = out[-1][1][0], pts[-1]
+            chord = b - a
+            length = float(np.hypot(*chord))
+            mid = out[-1][1][-1] - a
+            if length > 0 and abs(mid @ np.array([-chord[1], chord[0]])) / length <= FLAT_UNITS \
+                    and 0.0 < mid @ chord / length < length:
+                out[-1] = ("lineTo", np.array([a, b]))
+                continue
+        out.append((op, pts))
     return out
 
 
