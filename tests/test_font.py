@@ -843,3 +843,27 @@ def test_lines_that_go_on_in_one_direction_are_one_line():
     assert [(op, args[-1] if args else None) for op, args in tidy(rec).value] == [
         ("moveTo", (0.0, 0.0)), ("lineTo", (90.0, 0.0)), ("lineTo", (90.0, 90.0)), ("lineTo", (0.0, 90.0)),
         ("closePath", None)]
+
+
+def test_a_master_curve_whose_handles_round_onto_its_ends_still_merges():
+    """A weight master in which one stroke's curve has its handles on its ends (a line, if its
+    charstring were specialized) merges with the others curve for curve into a CFF2 font."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font import FontInfo
+    from brushwork.font.variable import MASTERS, make_variable
+
+    def box(r, flat=False):
+        c = np.array([[[500 - r, 380], [500 - r, 380 - r], [500 - r, 380 - r], [500, 380 - r]],
+                      [[500, 380 - r], [500 + r, 380 - r], [500 + r, 380 - r], [500 + r, 380]],
+                      [[500 + r, 380], [500 + r, 380 + r], [500 + r, 380 + r], [500, 380 + r]],
+                      [[500, 380 + r], [500 - r, 380 + r], [500 - r, 380 + r], [500 - r, 380]]], dtype=float)
+        if flat:
+            c[1, 1], c[1, 2] = c[1, 0], c[1, 3]       # handles on the ends
+        return [c]
+
+    masters = {w: {"十": box(100 + w / 10, flat=(w == 500))} for w in MASTERS}
+    vf = make_variable(masters, FontInfo(), cff=True)
+    pen = RecordingPen()
+    vf.getGlyphSet()["uni5341"].draw(pen)
+    assert [op for op, _ in pen.value].count("curveTo") == 4

@@ -271,7 +271,7 @@ def make_variable(masters: dict, info, cff: bool = True):
     fonts = {}
     for w, outlines in masters.items():
         draw = (lambda c, contours: _ccw(contours)) if cff else (lambda c, contours, q=quads[w]: q[c])
-        fonts[w] = make_font(outlines, info, cff=cff, draw=draw)
+        fonts[w] = make_font(outlines, info, cff=cff, draw=draw, specialize=False)
     vf, _, _ = varLib.build(_designspace(fonts), exclude=["BASE", "STAT"])
     vf["BASE"] = fonts[DEFAULT_WGHT]["BASE"]
     _stat(vf, _named_weights(fonts))
