@@ -156,20 +156,25 @@ def _segments(start: np.ndarray, segments: list) -> list:
         here = pts[-1]
     if out and out[-1][0] == "lineTo" and np.abs(out[-1][1][1] - start).max() < MIN_SEGMENT:
         out.pop()          # closePath draws the line back to the start
-    out = _drop_spikes(out)
+    joined = _rejoined(_drop_spikes(out))
+    out = _merge_lines([_straightened(op, c) for op, pts in joined
+                        for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])])
+    if len(out) > 1 and out[-1][0] == "lineTo" and np.abs(out[-1][1][-1] - start).max() < MIN_SEGMENT:
+        out.pop()          # a straightened line back to the start: closePath draws it
+    return out
+
+
+def _rejoined(segs: list) -> list:
+    """segs [(op, points from its start)] with neighbouring curves that are parts of one cubic joined."""
     joined: list = []
-    for op, pts in out:
+    for op, pts in segs:
         if op == "curveTo" and joined and joined[-1][0] == "curveTo":
             whole = _joined(joined[-1][1], pts)
             if whole is not None:
                 joined[-1] = ("curveTo", whole)
                 continue
         joined.append((op, pts))
-    out = _merge_lines([_straightened(op, c) for op, pts in joined
-                        for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])])
-    if len(out) > 1 and out[-1][0] == "lineTo" and np.abs(out[-1][1][-1] - start).max() < MIN_SEGMENT:
-        out.pop()          # a straightened line back to the start: closePath draws it
-    return out
+    return joined
 
 
 def _merge_lines(segs: list) -> list:
