@@ -30,12 +30,15 @@ def fonts(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def renders():
-    """The brush's own 512 px render of each character, as `brushwork render CHAR --size 512` draws it."""
+    """The brush's own 512 px render of each character, as `brushwork render CHAR --size 512 --ink
+    geometry` draws it (the font's route for the opaque kai), with its exact loops and its
+    placement in the em box."""
+    from brushwork.bench.font import Written
     from brushwork.writing import text_paper
     from brushwork.glyphs import load_source
 
     glyphs = load_source("default", CHARS)
-    return {c: text_paper([glyphs[c]], 512).image() for c in CHARS}
+    return {c: Written(text_paper([glyphs[c]], 512, ink="geometry"), 512) for c in CHARS}
 
 
 def test_fonts_are_made_once_then_cached(fonts):
@@ -179,8 +182,9 @@ def test_freetype_draws_what_the_brush_drew(fonts, renders, ext):
     percentile) and FreeType's ink overlaps the brush's closely."""
     from brushwork.font.check import glyph_fidelity
 
+    assert fonts[ext][1].ink == "geometry"
     for c in CHARS:
-        fid = glyph_fidelity(fonts[ext][0], c, renders[c], Em())
+        fid = glyph_fidelity(fonts[ext][0], c, renders[c].rgb, Em(), renders[c].shift)
         assert fid["stray"] <= 2.0, (c, fid)
         assert fid["iou"] >= 0.96, (c, fid)
 
@@ -193,18 +197,19 @@ def test_a_tight_tolerance_reproduces_the_render(tmp_path, renders):
     path = tmp_path / "tight.otf"
     build_font(SIMPLE, path, tolerance=0.05)
     for c in SIMPLE:
-        assert glyph_fidelity(path, c, renders[c], Em())["iou"] >= 0.99, c
+        assert glyph_fidelity(path, c, renders[c].rgb, Em(), renders[c].shift)["iou"] >= 0.99, c
 
 
 def test_outline_points_lie_on_the_em_square_the_render_spans(fonts, renders):
-    """The ink's box in the render, mapped to font units, is the glyph's box in the font, within
-    what the fit may stray from the ink's edge (MAX_RATIO tolerances: a thin spike cut short)
-    and half a pixel of the mask's steps."""
+    """The ink's box in the render, moved as the font places it and mapped to font units, is the
+    glyph's box in the font, within what the fit may stray from the ink's edge (MAX_RATIO
+    tolerances: a thin spike cut short) and half a pixel of the mask's steps."""
     from fontTools.pens.boundsPen import BoundsPen
     from fontTools.ttLib import TTFont
 
     from brushwork.font.fit import MAX_RATIO
     from brushwork.font.outline import FIT_TOL_PX
+    from brushwork.font.check import shifted
     from brushwork.font.trace import ink_coverage, ink_mask
 
     boxes = {}
@@ -216,7 +221,7 @@ def test_outline_points_lie_on_the_em_square_the_render_spans(fonts, renders):
             boxes[c] = pen.bounds
     em = Em()
     for c in CHARS:
-        ys, xs = np.nonzero(ink_mask(ink_coverage(renders[c])))
+        ys, xs = np.nonzero(ink_mask(shifted(ink_coverage(renders[c].rgb), renders[c].shift)))
         lo = em.to_font(np.array([xs.min(), ys.max() + 1.0]))
         hi = em.to_font(np.array([xs.max() + 1.0, ys.min()]))
         bound = (MAX_RATIO * FIT_TOL_PX + 0.5) * em.upm / em.size
@@ -653,17 +658,22 @@ def test_variable_instances_draw_the_brush_at_their_press(variable, ext):
     shapes every code point to its own glyph at each."""
     pytest.importorskip("uharfbuzz")
     from brushwork.writing import text_paper
-    from brushwork.font.check import freetype_coverage, iou, shaped_glyphs
+    from brushwork.font.check import freetype_coverage, iou, shaped_glyphs, shifted
+    from brushwork.font.outline import placement
     from brushwork.font.trace import ink_coverage, ink_mask
-    from brushwork.font.variable import master_style, press_factor
+    from brushwork.font.variable import master_style, press_factor, stroke_edges
     from brushwork.glyphs import load_source
     from brushwork.writing import Style
 
     glyphs, kai = load_source("default", SIMPLE), Style.load("kai")
+    # the font centres every master as it centres the regular one's strokes
+    shifts = {c: placement([e for e in stroke_edges(glyphs[c], 512, kai, 0, "geometry") if e is not None], 512)
+              for c in SIMPLE}
     for w in (300, 500, 700):
         assert shaped_glyphs(variable[ext], SIMPLE, wght=w) == [f"uni{ord(c):04X}" for c in SIMPLE]
         for c in SIMPLE:
-            ink = ink_mask(ink_coverage(text_paper([glyphs[c]], 512, master_style(kai, press_factor(w))).image()))
+            paper = text_paper([glyphs[c]], 512, master_style(kai, press_factor(w)), ink="geometry")
+            ink = ink_mask(shifted(ink_coverage(paper.image()), shifts[c]))
             assert iou(ink, freetype_coverage(variable[ext], c, Em(), wght=w) >= 0.5) >= 0.97, (w, c)
 
 
@@ -719,3 +729,141 @@ def test_the_fit_cuts_at_the_extremes_with_level_handles():
         assert ((drawn >= lo) & (drawn <= hi)).all(), c
     tops = [c for c in curves if abs(c[0, 1] - ellipse[:, 1].max()) < 0.5]
     assert tops and all(abs(c[1, 1] - c[0, 1]) < 1e-9 for c in tops)
+
+
+EXTREMES = "腻宰"      # of bench font's 60 characters, the widest ink (past the em box's left edge) and the tallest
+
+
+def _font_box(path, char) -> tuple:
+    from fontTools.pens.boundsPen import BoundsPen
+    from fontTools.ttLib import TTFont
+
+    with TTFont(path) as font:
+        glyphs = font.getGlyphSet()
+        pen = BoundsPen(glyphs)
+        glyphs[font.getBestCmap()[ord(char)]].draw(pen)
+        return pen.bounds
+
+
+def test_the_ink_is_centred_in_the_em_and_the_extremes_are_whole(tmp_path):
+    """The widest and the tallest glyph of a set, the one written past the em box's edge: each
+    glyph's ink box centred in the em box (side bearings equal, as much room above the middle as
+    below, within the whole pixel placement moves by and the fit's stray), inside the em, and as
+    wide and tall as the brush's ink (the geometry's own loops, which the render clips) to within
+    the fit's stray: nothing cut off."""
+    from brushwork.font.fit import MAX_RATIO
+    from brushwork.font.outline import FIT_TOL_PX
+    from brushwork.glyphs import load_source
+    from brushwork.writing import text_paper
+
+    path = tmp_path / "x.otf"
+    assert not build_font(EXTREMES, path, jobs=1).failed
+    em, glyphs = Em(), load_source("default", EXTREMES)
+    unit = em.upm / em.size                                # font units a px
+    stray = MAX_RATIO * FIT_TOL_PX * unit
+    middle = (em.upm / 2, (em.ascender + (em.ascender - em.upm)) / 2)
+    for c in EXTREMES:
+        paper = text_paper([glyphs[c]], em.size, ink="geometry")
+        loops = np.concatenate(paper.outlines()) * (em.upm / paper.width_mm)
+        x0, y0, x1, y1 = _font_box(path, c)
+        assert (x1 - x0, y1 - y0) == pytest.approx(tuple(np.ptp(loops, axis=0)), abs=2 * stray), c
+        assert ((x0 + x1) / 2, (y0 + y1) / 2) == pytest.approx(middle, abs=unit / 2 + stray), c
+        assert x0 > 0 and x1 < em.upm and y0 > em.ascender - em.upm and y1 < em.ascender, c
+    assert np.min(np.concatenate(text_paper([glyphs["腻"]], em.size, ink="geometry").outlines())[:, 0]) < 0
+
+
+def test_exact_loops_are_fitted_with_few_curves_their_corners_kept():
+    """A disc and a square as a VectorPaper's loops give them (mm, outer counter-clockwise): the
+    disc in four curves meeting at its extremes, enclosing pi r^2; the square's four corners are
+    points of its outline, and its area is kept."""
+    from brushwork.font.build import clean_outline, _area
+    from brushwork.font.outline import fit_edges, loop_edges
+
+    em = Em(512)
+    a = np.linspace(0.0, 2 * np.pi, 720, endpoint=False)
+    disc = np.stack([50 + 30 * np.cos(a), 50 + 30 * np.sin(a)], axis=1)
+    square = np.array([[20.0, 20.0], [80.0, 20.0], [80.0, 80.0], [20.0, 80.0]])
+    units2 = (em.upm / 100.0) ** 2
+    (c,) = fit_edges(loop_edges([disc], 100.0, em.size), em)
+    assert len(c) == 4
+    assert abs(_area(clean_outline([c]))) == pytest.approx(np.pi * 30 ** 2 * units2, rel=0.005)
+    (s,) = fit_edges(loop_edges([square], 100.0, em.size), em)
+    ends = {tuple(np.round(p, 3)) for p in s[:, 0]}
+    want = {tuple(np.round(em.to_font(np.array([x, 100.0 - y]) * 5.12), 3)) for x, y in square}
+    assert want <= ends
+    assert abs(_area(clean_outline([s]))) == pytest.approx(60 * 60 * units2, rel=0.002)
+
+
+def test_gl_ink_is_traced_and_cached_apart(tmp_path):
+    """`--ink gl` builds the font from the GL render's traced edge: another cache folder, the same
+    character's glyph within the traced route's fidelity of the geometry route's."""
+    pytest.importorskip("ots")
+    from brushwork.font.check import sanitize
+
+    geo = build_font("十", tmp_path / "g.otf", jobs=1)
+    gl = build_font("十", tmp_path / "t.otf", jobs=1, ink="gl")
+    assert (geo.ink, gl.ink) == ("geometry", "gl") and gl.made == ["十"]
+    assert len(list((tmp_path / CACHE_DIR).iterdir())) == 2
+    assert sanitize(tmp_path / "t.otf") is None
+    assert _glyph_area(tmp_path / "t.otf", "十") == pytest.approx(_glyph_area(tmp_path / "g.otf", "十"), rel=0.03)
+
+
+def test_a_flat_curve_is_stored_as_a_line_and_a_bent_one_is_not():
+    """A curve whose handles lie on its chord becomes a line (one point, not three); one whose
+    handles stand off it stays a curve; a line back to the start is left to closePath."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    rec.moveTo((0, 0))
+    rec.curveTo((30, 0.2), (60, -0.2), (90, 0))        # flat: a line
+    rec.curveTo((100, 30), (100, 60), (90, 90))        # bent: a curve (cut at its x extreme)
+    rec.curveTo((60, 90.1), (30, 89.9), (0, 90))       # flat
+    rec.curveTo((0, 60.2), (0.1, 29.9), (0, 0))        # flat, back to the start
+    rec.closePath()
+    ops = [op for op, _ in tidy(rec).value]
+    assert ops == ["moveTo", "lineTo", "curveTo", "curveTo", "lineTo", "closePath"]
+
+
+def test_lines_that_go_on_in_one_direction_are_one_line():
+    """Two lines in a row along one direction (within half a unit) are stored as one; a line that
+    turns is kept."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font.tidy import tidy
+
+    rec = RecordingPen()
+    rec.moveTo((0, 0))
+    rec.lineTo((40, 0.3))
+    rec.lineTo((90, 0))            # on in the same direction: merged
+    rec.lineTo((90, 90))           # turns: kept
+    rec.lineTo((0, 90))
+    rec.closePath()
+    assert [(op, args[-1] if args else None) for op, args in tidy(rec).value] == [
+        ("moveTo", (0.0, 0.0)), ("lineTo", (90.0, 0.0)), ("lineTo", (90.0, 90.0)), ("lineTo", (0.0, 90.0)),
+        ("closePath", None)]
+
+
+def test_a_master_curve_whose_handles_round_onto_its_ends_still_merges():
+    """A weight master in which one stroke's curve has its handles on its ends (a line, if its
+    charstring were specialized) merges with the others curve for curve into a CFF2 font."""
+    from fontTools.pens.recordingPen import RecordingPen
+
+    from brushwork.font import FontInfo
+    from brushwork.font.variable import MASTERS, make_variable
+
+    def box(r, flat=False):
+        c = np.array([[[500 - r, 380], [500 - r, 380 - r], [500 - r, 380 - r], [500, 380 - r]],
+                      [[500, 380 - r], [500 + r, 380 - r], [500 + r, 380 - r], [500 + r, 380]],
+                      [[500 + r, 380], [500 + r, 380 + r], [500 + r, 380 + r], [500, 380 + r]],
+                      [[500, 380 + r], [500 - r, 380 + r], [500 - r, 380 + r], [500 - r, 380]]], dtype=float)
+        if flat:
+            c[1, 1], c[1, 2] = c[1, 0], c[1, 3]       # handles on the ends
+        return [c]
+
+    masters = {w: {"十": box(100 + w / 10, flat=(w == 500))} for w in MASTERS}
+    vf = make_variable(masters, FontInfo(), cff=True)
+    pen = RecordingPen()
+    vf.getGlyphSet()["uni5341"].draw(pen)
+    assert [op for op, _ in pen.value].count("curveTo") == 4

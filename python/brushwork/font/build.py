@@ -172,12 +172,15 @@ def _bounds(rec) -> tuple:
     return pen.bounds or (0, 0, 0, 0)
 
 
-def _charstring(rec, width: int):
+def _charstring(rec, width: int, specialize: bool = True):
+    """The Type 2 charstring of a RecordingPen's outline; unspecialized, every curve stays an
+    rrcurveto (a curve whose handles round onto its ends would otherwise be written as a line, and
+    a variable font's masters would no longer match point for point)."""
     from fontTools.pens.t2CharStringPen import T2CharStringPen
 
     pen = T2CharStringPen(width, None)
     rec.replay(pen)
-    return pen.getCharString()
+    return pen.getCharString(optimize=specialize)
 
 
 def _tt_glyph(rec):
@@ -334,7 +337,7 @@ def _glyphs(outlines: dict, info: FontInfo, draw=None) -> tuple:
     return names, recs, advances, cmap
 
 
-def make_font(outlines: dict, info: FontInfo, cff: bool = True, draw=None):
+def make_font(outlines: dict, info: FontInfo, cff: bool = True, draw=None, specialize: bool = True):
     """A fontTools TTFont of the outlines ({char: contours in font units}), each glyph one em wide
     and one em tall (vertical metrics set for vertical CJK text), with CFF outlines or, when cff is
     False, glyf quadratics (cu2qu makes those of cubics); with .notdef and the SPACES. draw(char,
@@ -349,7 +352,7 @@ def make_font(outlines: dict, info: FontInfo, cff: bool = True, draw=None):
     if cff:
         fb.setupCFF(info.ps_name, {"FullName": f"{info.family} {info.style}", "FamilyName": info.family,
                                    "Weight": info.style, "version": info.version},
-                    {n: _charstring(r, w) for n, r, w in zip(names, recs, advances)}, {})
+                    {n: _charstring(r, w, specialize) for n, r, w in zip(names, recs, advances)}, {})
     else:
         fb.setupGlyf({n: _tt_glyph(r) for n, r in zip(names, recs)})
         # TrueType places a glyph by its left side bearing: take it from the quadratics' own box

@@ -160,13 +160,24 @@ def edge_strays(cov: np.ndarray, points_units: np.ndarray, em: Em) -> np.ndarray
     return dist[ij[:, 1], ij[:, 0]] / UPSAMPLE * em.upm / em.size
 
 
-def glyph_fidelity(path: str | os.PathLike, char: str, rgb: np.ndarray, em: Em) -> dict:
-    """FreeType's raster of char in the font at path against the brush's render rgb (N, N, 3):
+def shifted(cov: np.ndarray, shift_px) -> np.ndarray:
+    """cov (H, W) moved by shift_px (dx, dy) whole px, right and down, what leaves the image dropped
+    and what enters it empty."""
+    dx, dy = (int(round(v)) for v in shift_px)
+    out = np.zeros_like(cov)
+    h, w = cov.shape
+    out[max(dy, 0):h + min(dy, 0), max(dx, 0):w + min(dx, 0)] = cov[max(-dy, 0):h - max(dy, 0), max(-dx, 0):w - max(dx, 0)]
+    return out
+
+
+def glyph_fidelity(path: str | os.PathLike, char: str, rgb: np.ndarray, em: Em, shift_px=(0, 0)) -> dict:
+    """FreeType's raster of char in the font at path against the brush's render rgb (N, N, 3) moved
+    by shift_px as the font placed the glyph in its em box (outline.placement):
     {"iou": ink IoU, "stray": the EDGE_PCT percentile of the outline's distance from the ink edge
     in font units}."""
     from .trace import ink_coverage
 
-    cov = ink_coverage(rgb)
+    cov = shifted(ink_coverage(rgb), shift_px)
     ft = freetype_coverage(path, char, em)
     strays = edge_strays(cov, outline_points(path, char), em)
     return {"iou": iou(ink_mask(cov), ft >= 0.5),

@@ -36,8 +36,12 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--licence-url", default="", metavar="URL", help="where the licence is (name ID 14)")
     p.add_argument("--copyright", default="", metavar="TEXT", help="the copyright notice (name ID 0)")
     p.add_argument("--vendor-url", default="", metavar="URL", help="the font's maker's web site (name ID 11)")
+    p.add_argument("--ink", default="auto", choices=("auto", "geometry", "gl"),
+                   help="how each glyph's ink is made: geometry (its exact contours, fitted with cubics), gl (the "
+                        "EGL render, its edge traced), auto (default: geometry where the style's scene is opaque)")
     p.add_argument("--size", type=int, default=TRACE_SIZE,
-                   help=f"px of the render each outline is traced from (default {TRACE_SIZE})")
+                   help=f"px of the render the tolerance is measured in (and, with --ink gl, traced from; "
+                        f"default {TRACE_SIZE})")
     p.add_argument("--tolerance", type=float, default=FIT_TOL_PX,
                    help=f"px of that render: the curves' mean distance from the ink's edge, none straying more "
                         f"than {MAX_RATIO:g} times it (default {FIT_TOL_PX}); larger: fewer points, a smaller font")
@@ -68,7 +72,7 @@ def handle(args: argparse.Namespace) -> int:
     res = build_font(chars, args.output, source=args.source, style=args.style, seed=args.seed, size=args.size,
                      tolerance=args.tolerance, info=info, jobs=args.jobs, executor=args.executor,
                      progress=not args.no_progress, web=args.web, slice_chars=args.slice_chars,
-                     variable=args.variable)
+                     variable=args.variable, ink=args.ink)
     print(summary(res))
     if res.interrupted:
         return 130

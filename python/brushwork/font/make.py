@@ -3,7 +3,7 @@ on Ray), kept in a cache beside the font so that a run stopped part way resumes 
 and another format of the same font is built without writing a glyph again; then the font.
 
 The cache is OUT's folder/.brushwork-font-cache/KEY/U+XXXX-HASH.json, KEY naming the style, seed,
-trace size, tolerance and brush (brushwork's version, the preset's parameters) and HASH the glyph's
+size, tolerance, the ink's path (geometry or gl) and brush (brushwork's version, the preset's parameters) and HASH the glyph's
 strokes; each file is written atomically."""
 from __future__ import annotations
 
@@ -19,16 +19,18 @@ import numpy as np
 
 from ..pool import Progress, check_executor, parallel_map
 from ..files import write_atomic
+from ..paper import ink_path
+from ..scene import Scene
 from ..writing import Style, check_size, text_paper
 from .build import SPACES, FontInfo, check_font_path, make_font, write_font
 from .check import glyph_points
-from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_from_image, point_count
+from .outline import FIT_TOL_PX, TRACE_SIZE, Em, outline_of_paper, point_count
 from .variable import MASTERS, master_outlines, write_variable
 from .web import SLICE_CHARS, check_slice_chars, write_web
 
 CACHE_DIR = ".brushwork-font-cache"
 MAX_UNITS = 32767           # font units: every coordinate of a font fits a signed 16-bit integer
-OUTLINE_FORMAT = 4          # the cache files' layout and the tracer's: a change makes new keys
+OUTLINE_FORMAT = 5          # the cache files' layout and the fitter's: a change makes new keys
 
 
 @dataclass
@@ -45,6 +47,7 @@ class FontResult:
     write_seconds: float = 0.0                      # assembling and writing the font
     interrupted: bool = False
     source: str = "default"
+    ink: str = ""                                   # the path the ink took: geometry or gl
 
     @property
     def glyphs(self) -> int:
@@ -58,8 +61,9 @@ def check_tolerance(tol: float) -> float:
     return tol
 
 
-def _cache_key(style: Style, seed: int, size: int, tol: float, variable: bool = False) -> str:
-    """What the cached outlines depend on: the style, seed, size and tolerance, the outline format,
+def _cache_key(style: Style, seed: int, size: int, tol: float, variable: bool = False, ink: str = "gl") -> str:
+    """What the cached outlines depend on: the style, seed, size and tolerance, the ink's path
+    (geometry's exact loops or the traced image), the outline format,
     the weight masters of a variable font, and the brush (brushwork's version and every parameter
     of the style's preset), so that another brush never reuses them."""
     from .. import BrushModel, __version__
@@ -67,7 +71,7 @@ def _cache_key(style: Style, seed: int, size: int, tol: float, variable: bool = 
     model = BrushModel.preset(style.preset)
     brush = {p["name"]: getattr(model, p["name"]) for p in model.parameters()}
     masters = MASTERS if variable else None
-    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush, masters], sort_keys=True,
+    doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush, masters, ink], sort_keys=True,
                      default=str)
     return hashlib.sha1(doc.encode()).hexdigest()[:16]
 
@@ -118,9 +122,9 @@ def check_outline(doc) -> list:
 _JOB: dict = {}
 
 
-def _init_worker(style: str, size: int, seed: int, tol: float, variable: bool = False) -> None:
+def _init_worker(style: str, size: int, seed: int, tol: float, variable: bool = False, ink: str = "gl") -> None:
     _JOB.clear()
-    _JOB.update(style=Style.load(style), em=Em(size), seed=seed, tol=tol, variable=variable)
+    _JOB.update(style=Style.load(style), em=Em(size), seed=seed, tol=tol, variable=variable, ink=ink)
 
 
 def _outline_one(task: tuple) -> tuple:
@@ -131,11 +135,11 @@ def _outline_one(task: tuple) -> tuple:
     try:
         em = _JOB["em"]
         if _JOB["variable"]:
-            save_outline(Path(out), master_outlines(glyph, em, _JOB["style"], _JOB["seed"]))
+            save_outline(Path(out), master_outlines(glyph, em, _JOB["style"], _JOB["seed"], ink=_JOB["ink"]))
         else:
-            paper = text_paper([glyph], em.size, _JOB["style"], _JOB["seed"], paper=_JOB.get("paper"))
+            paper = text_paper([glyph], em.size, _JOB["style"], _JOB["seed"], paper=_JOB.get("paper"), ink=_JOB["ink"])
             _JOB["paper"] = paper
-            save_outline(Path(out), outline_from_image(paper.image(), em, _JOB["tol"]))
+            save_outline(Path(out), outline_of_paper(paper, em, _JOB["tol"]))
     except Exception as err:       # reported at the end with the character; the others go on
         _JOB.pop("paper", None)
         return char, time.process_time() - t0, f"{type(err).__name__}: {err}"
@@ -219,28 +223,31 @@ def _check_args(path, web, slice_chars: int, size: int, tolerance: float, execut
 def build_font(glyphs, path: str | os.PathLike | None, *, source: str = "default", style: str = "kai", seed: int = 0,
                size: int = TRACE_SIZE, tolerance: float = FIT_TOL_PX, info: FontInfo | None = None, jobs: int = 1,
                executor: str = "local", progress: bool = False, web: str | os.PathLike | None = None,
-               slice_chars: int = SLICE_CHARS, variable: bool = False) -> FontResult:
+               slice_chars: int = SLICE_CHARS, variable: bool = False, ink: str = "auto") -> FontResult:
     """A font at path (.otf .ttf .woff2 .ufo) of glyphs: a string of characters (their strokes
     from `source`) or a {char: Glyph} dict, each outline traced from the brush's size x size
     render (as `brushwork render CHAR --size SIZE` draws it) and fitted within `tolerance` px;
     with `web` a folder, also the font cut in unicode-range WOFF2 slices of `slice_chars`
     characters with their CSS and a demo page (web.py; path may then be None); with `variable`,
-    a variable font whose wght axis runs through the brush's weight masters (variable.py).
+    a variable font whose wght axis runs through the brush's weight masters (variable.py). `ink`
+    picks how the ink is made (paper.ink_path): geometry's exact contours, fitted; gl's image,
+    traced; auto, geometry for an opaque style.
     Characters that fail are listed in the result and left out; the font is written when any
     glyph was made, atomically."""
     t0 = time.perf_counter()
     info = (info or FontInfo()).check()
     size, tolerance, executor = _check_args(path, web, slice_chars, size, tolerance, executor, jobs, variable)
     st = Style.load(style)
-    result = FontResult(path=os.fspath(path) if path is not None else "", source=source)
+    ink = ink_path(Scene(**st.scene), ink)
+    result = FontResult(path=os.fspath(path) if path is not None else "", source=source, ink=ink)
     loaded = _load_glyphs(glyphs, source, result)
-    folder = _cache_root(path, web) / CACHE_DIR / _cache_key(st, seed, size, tolerance, variable)
+    folder = _cache_root(path, web) / CACHE_DIR / _cache_key(st, seed, size, tolerance, variable, ink)
     folder.mkdir(parents=True, exist_ok=True)
     files = {c: _glyph_file(folder, c, g) for c, g in loaded.items()}
     todo = [c for c in loaded if load_outline(files[c]) is None]
     making = set(todo)
     result.cached = [c for c in loaded if c not in making]
-    _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance, variable),
+    _run([(c, loaded[c], str(files[c])) for c in todo], int(jobs), (style, size, seed, tolerance, variable, ink),
          executor, result, progress)
     outlines = _outlines(files, loaded, result)
     if outlines and not result.interrupted:

@@ -11,6 +11,7 @@ import numpy as np
 MIN_SEGMENT = 1.0       # font units: a segment whose points all lie this close to its start is dropped
 EXTREME_UNITS = 1.0     # font units: a curve bulging past its ends by more than this is split at the extreme
 SPECK_UNITS2 = 16.0     # square units: a contour enclosing less (a speck of 2 x 2 px at 512 px) is dropped
+FLAT_UNITS = 0.5        # font units: a curve whose handles lie this close to its chord is drawn as a line
 SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing less width than this is dropped
 REJOIN_UNITS = 0.05     # font units: how far two parts may lie from the parts of the cubic they join into
 EDGE_T = 0.02           # extremes this near a curve's ends (in its parameter) count as at the ends
@@ -144,7 +145,8 @@ def _drop_spikes(segs: list) -> list:
 
 def _segments(start: np.ndarray, segments: list) -> list:
     """The contour's segments as ("curveTo", (4, 2)) and ("lineTo", (2, 2)) arrays from their
-    start points, the degenerate ones dropped, curves rejoined and their extremes put on-curve."""
+    start points, the degenerate ones dropped, curves rejoined, their extremes put on-curve and the
+    flat ones straightened."""
     out: list = []
     here = start
     for op, pts in segments:
@@ -154,16 +156,60 @@ def _segments(start: np.ndarray, segments: list) -> list:
         here = pts[-1]
     if out and out[-1][0] == "lineTo" and np.abs(out[-1][1][1] - start).max() < MIN_SEGMENT:
         out.pop()          # closePath draws the line back to the start
-    out = _drop_spikes(out)
+    joined = _rejoined(_drop_spikes(out))
+    out = _merge_lines([_straightened(op, c) for op, pts in joined
+                        for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])])
+    if len(out) > 1 and out[-1][0] == "lineTo" and np.abs(out[-1][1][-1] - start).max() < MIN_SEGMENT:
+        out.pop()          # a straightened line back to the start: closePath draws it
+    return out
+
+
+def _rejoined(segs: list) -> list:
+    """segs [(op, points from its start)] with neighbouring curves that are parts of one cubic joined."""
     joined: list = []
-    for op, pts in out:
+    for op, pts in segs:
         if op == "curveTo" and joined and joined[-1][0] == "curveTo":
             whole = _joined(joined[-1][1], pts)
             if whole is not None:
                 joined[-1] = ("curveTo", whole)
                 continue
         joined.append((op, pts))
-    return [(op, c) for op, pts in joined for c in (on_curve_extremes(pts) if op == "curveTo" else [pts])]
+    return joined
+
+
+def _merge_lines(segs: list) -> list:
+    """segs with each run of lines that goes on in one direction (the point between two of them
+    within FLAT_UNITS of the line joining their far ends, and between them) drawn as one line."""
+    out: list = []
+    for op, pts in segs:
+        if op == "lineTo" and out and out[-1][0] == "lineTo":
+            a, b = out[-1][1][0], pts[-1]
+            chord = b - a
+            length = float(np.hypot(*chord))
+            mid = out[-1][1][-1] - a
+            if length > 0 and abs(mid @ np.array([-chord[1], chord[0]])) / length <= FLAT_UNITS \
+                    and 0.0 < mid @ chord / length < length:
+                out[-1] = ("lineTo", np.array([a, b]))
+                continue
+        out.append((op, pts))
+    return out
+
+
+def _straightened(op: str, pts: np.ndarray) -> tuple:
+    """(op, points) as given, or a curve whose handles lie within FLAT_UNITS of its chord and
+    between its ends as the line it draws (one point stored where the curve took three)."""
+    if op != "curveTo":
+        return op, pts
+    chord = pts[3] - pts[0]
+    length = float(np.hypot(*chord))
+    if length < MIN_SEGMENT:
+        return op, pts
+    rel = pts[1:3] - pts[0]
+    across = np.abs(rel @ np.array([-chord[1], chord[0]])) / length
+    along = rel @ chord / length
+    if across.max() <= FLAT_UNITS and along.min() >= 0.0 and along.max() <= length:
+        return "lineTo", pts[[0, 3]]
+    return op, pts
 
 
 def tidy(rec):

@@ -41,6 +41,13 @@ def _smooth_closed(p: np.ndarray, sigma: float) -> np.ndarray:
     return np.stack([np.convolve(wrapped[:, i], k, mode="valid") for i in range(2)], axis=1)
 
 
+def arc(p: np.ndarray, n: int) -> np.ndarray:
+    """The open polyline p resampled at n points evenly along its length, ends kept."""
+    d = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
+    s = np.linspace(0.0, d[-1], n)
+    return np.stack([np.interp(s, d, p[:, 0]), np.interp(s, d, p[:, 1])], axis=1)
+
+
 def resample_closed(p: np.ndarray, spacing: float) -> np.ndarray:
     """The closed polyline p (n, 2) resampled at even steps of about `spacing` along its length."""
     ring = np.concatenate([p, p[:1]])

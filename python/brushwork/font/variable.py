@@ -4,7 +4,8 @@ master's factor (MASTERS); every stroke its own closed contour, overlaps kept.
 
 Masters are made interpolation-compatible stroke by stroke: each stroke's ink is taken off the
 paper as it is written (the brush, its ink and the character's other strokes as in the whole
-writing), its outer edge traced and cut at its two tips (the regular master's farthest-apart
+writing), its outer edge (the ink's exact outer loop when the ink is geometry, else traced from its
+image) cut at its two tips (the regular master's farthest-apart
 points, in the other masters the points nearest those), each half sampled at the same fractions of its own
 length in every master; the regular master's samples are fitted (fit.py) and every master's are
 fitted with the same cuts, each piece one cubic between the tangents of its own samples. fontTools'
@@ -17,8 +18,8 @@ import dataclasses
 import numpy as np
 
 from .fit import _fit_split, _merge, _unit, fit_one
-from .outline import Em
-from .trace import SPACING_PX, _signed_area, ink_coverage, resample_closed, trace
+from .outline import Em, loops_to_px, placement
+from .trace import SPACING_PX, _signed_area, arc as _arc, ink_coverage, resample_closed, trace
 
 # wght -> the factor on the style's width_em; the default master is the style as it is
 # (500, between them, a master too: the brush's ink grows more slowly than its press towards the
@@ -35,27 +36,51 @@ def master_style(style, factor: float):
     return dataclasses.replace(style, width_em=style.width_em * factor)
 
 
-def stroke_images(glyph, size: int, style, seed: int = 0) -> list:
-    """(size, size, 3) uint8 images, one a stroke: the ink each stroke of glyph leaves as the brush
-    writes the glyph in style (the paper cleared after each)."""
+def _each_stroke(glyph, size: int, style, seed: int, ink: str, take) -> list:
+    """[take(paper)] once a stroke: the paper holding the ink of that stroke alone as the brush
+    writes glyph in style (the paper cleared after each), its ink on the path `ink` picks."""
     from ..writing import Writer, writing_paper
 
-    paper = writing_paper(style, size, 1)
+    paper = writing_paper(style, size, 1, ink=ink)
     writer = Writer(paper, style, seed)
-    images: list = []
+    out: list = []
 
-    def take(k: int) -> None:
-        images.append(paper.image())
+    def stroke_done(k: int) -> None:
+        out.append(take(paper))
         paper.clear()
 
-    writer.write(glyph, on_stroke=take)
-    return images
+    writer.write(glyph, on_stroke=stroke_done)
+    return out
+
+
+def stroke_images(glyph, size: int, style, seed: int = 0, ink: str = "gl") -> list:
+    """(size, size, 3) uint8 images, one a stroke: the ink each stroke of glyph leaves as the brush
+    writes the glyph in style."""
+    return _each_stroke(glyph, size, style, seed, ink, lambda paper: paper.image())
+
+
+def _edge(paper) -> np.ndarray | None:
+    """The outer edge (n, 2) px of the largest ink on paper: its exact outer loop when the ink is
+    geometry, else traced from its image."""
+    if paper.inked_by == "geometry":
+        return _largest(loops_to_px(paper.outlines(), paper.height_mm, paper.height_px))
+    return outer_edge(paper.image())
+
+
+def stroke_edges(glyph, size: int, style, seed: int = 0, ink: str = "gl") -> list:
+    """The outer edge (n, 2) px of a size px render, or None, of each stroke's ink (_each_stroke)."""
+    return _each_stroke(glyph, size, style, seed, ink, _edge)
+
+
+def _largest(polys: list) -> np.ndarray | None:
+    """The polyline of polys (each (n, 2) px, outer edges positive) enclosing the most ink, or None."""
+    outer = [p for p in polys if _signed_area(p) > 0]
+    return max(outer, key=_signed_area) if outer else None
 
 
 def outer_edge(rgb: np.ndarray) -> np.ndarray | None:
     """The outer edge (n, 2) px of the largest ink in rgb, positive area (y down), or None."""
-    polys = [p for p in trace(ink_coverage(rgb)) if _signed_area(p) > 0]
-    return max(polys, key=_signed_area) if polys else None
+    return _largest(trace(ink_coverage(rgb)))
 
 
 def _tips(p: np.ndarray) -> tuple:
@@ -63,13 +88,6 @@ def _tips(p: np.ndarray) -> tuple:
     d = np.linalg.norm(p[:, None, :] - p[None, :, :], axis=2)
     i, j = np.unravel_index(int(np.argmax(d)), d.shape)
     return int(i), int(j)
-
-
-def _arc(p: np.ndarray, n: int) -> np.ndarray:
-    """The open polyline p resampled at n points evenly along its length, ends kept."""
-    d = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-    s = np.linspace(0.0, d[-1], n)
-    return np.stack([np.interp(s, d, p[:, 0]), np.interp(s, d, p[:, 1])], axis=1)
 
 
 def ring(edge: np.ndarray, tips: tuple | None = None) -> np.ndarray:
@@ -141,12 +159,13 @@ def fit_at(r: np.ndarray, at: list) -> np.ndarray:
     return np.array([_piece(r, a, b, FIT_TOL_PX)[0] for a, b in zip(ends, ends[1:])])
 
 
-def master_outlines(glyph, em: Em, style, seed: int = 0, masters: dict = MASTERS) -> dict:
-    """{wght: [contour (m, 4, 2) font units a stroke]}: the glyph written at each master's press,
-    every master's contours compatible (same cubics, stroke by stroke). ValueError when a stroke
-    leaves no ink in some master."""
-    edges = {w: [outer_edge(img) for img in stroke_images(glyph, em.size, master_style(style, f), seed)]
-             for w, f in masters.items()}
+def master_outlines(glyph, em: Em, style, seed: int = 0, masters: dict = MASTERS, ink: str = "gl") -> dict:
+    """{wght: [contour (m, 4, 2) font units a stroke]}: the glyph written at each master's press
+    (its ink on the path `ink` picks), every master's contours compatible (same cubics, stroke by
+    stroke), all moved by the placement of the default master's ink in the em box. ValueError when a stroke leaves no ink in some master."""
+    edges = {w: stroke_edges(glyph, em.size, master_style(style, f), seed, ink) for w, f in masters.items()}
+    # every master moved alike: the default master's ink centred in the em box
+    shift = placement([e for e in edges[DEFAULT_WGHT] if e is not None], em.size)
     out: dict = {w: [] for w in masters}
     for k in range(len(glyph.strokes)):
         if any(edges[w][k] is None for w in masters):
@@ -156,7 +175,7 @@ def master_outlines(glyph, em: Em, style, seed: int = 0, masters: dict = MASTERS
         rings = {w: ref if w == DEFAULT_WGHT else ring(edges[w][k], tips) for w in masters}
         at = shared_cuts([ref] + [r for w, r in rings.items() if w != DEFAULT_WGHT])
         for w in masters:
-            out[w].append(em.to_font(fit_at(rings[w], at)))
+            out[w].append(em.to_font(fit_at(rings[w], at) + shift))
     return out
 
 
@@ -252,7 +271,7 @@ def make_variable(masters: dict, info, cff: bool = True):
     fonts = {}
     for w, outlines in masters.items():
         draw = (lambda c, contours: _ccw(contours)) if cff else (lambda c, contours, q=quads[w]: q[c])
-        fonts[w] = make_font(outlines, info, cff=cff, draw=draw)
+        fonts[w] = make_font(outlines, info, cff=cff, draw=draw, specialize=False)
     vf, _, _ = varLib.build(_designspace(fonts), exclude=["BASE", "STAT"])
     vf["BASE"] = fonts[DEFAULT_WGHT]["BASE"]
     _stat(vf, _named_weights(fonts))
