@@ -29,6 +29,8 @@ def fit_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
     p.add_argument("--executor", default="local", help="local (worker processes) or ray")
     p.add_argument("--no-progress", action="store_true", help="no progress line a character")
+    p.add_argument("--regions", action="store_true",
+                   help="print where the fitted ink misses the outlines, by stroke family and region")
 
 
 def _init(style: str, out: str) -> None:
@@ -39,21 +41,23 @@ def _init(style: str, out: str) -> None:
 
 
 def _fit_one(task: tuple) -> tuple:
-    """(char, glyph) -> (char, iou at SCORE_PX or None, CPU seconds, error line or None)."""
+    """(char, glyph) -> (char, iou at SCORE_PX or None, CPU seconds, error line or None, the
+    fit's misses by region: {family: tally})."""
     from .glyphs.score import iou, outline_mask
     from .writing.planned import InkGrid, PlanWriter
 
     char, glyph = task
     t0 = time.process_time()
+    _JOB["fitter"].regions = {}
     try:
         plan = _JOB["fitter"].fit(glyph)
         grid = InkGrid(SCORE_PX, _JOB["style"].em_mm)
         PlanWriter(_JOB["style"], grid).write(glyph, plan)
         plan.iou = iou(grid.ink(), outline_mask(glyph, SCORE_PX))
         plan.save(_JOB["out"])
-        return char, plan.iou, time.process_time() - t0, None
+        return char, plan.iou, time.process_time() - t0, None, _JOB["fitter"].regions
     except ValueError as err:
-        return char, None, time.process_time() - t0, " ".join(str(err).split())
+        return char, None, time.process_time() - t0, " ".join(str(err).split()), {}
 
 
 def _done(out: str, glyphs: dict) -> dict:
@@ -92,23 +96,28 @@ def _fit_glyphs(args: argparse.Namespace) -> tuple[dict, dict]:
 
 def fit_handle(args: argparse.Namespace) -> int:
     from .pool import parallel_map
+    from .writing.regions import add_tally, table
 
     glyphs, bad = _fit_glyphs(args)
     os.makedirs(args.out, exist_ok=True)
     done = _done(args.out, glyphs)
     tasks = [(c, g) for c, g in glyphs.items() if c not in done]
-    scores, seconds = dict(done), []
-    for n, (char, score, sec, err) in enumerate(parallel_map(_fit_one, tasks, args.jobs, _init,
+    scores, seconds, regions = dict(done), [], {}
+    for n, (char, score, sec, err, tallies) in enumerate(parallel_map(_fit_one, tasks, args.jobs, _init,
                                                               (args.style, args.out), args.executor), 1):
         if err is not None:
             bad[char] = err
         else:
             scores[char] = score
             seconds.append(sec)
+            for fam, tally in tallies.items():
+                add_tally(regions, fam, tally)
         if not args.no_progress:
             print(f"{n}/{len(tasks)} {char} "
                   + (f"IoU {score:.3f} {sec:.1f} s" if err is None else f"failed: {err}"), file=sys.stderr)
     _fit_summary(scores, seconds, len(done), bad)
+    if args.regions and regions:
+        print("\n".join(table(regions)))
     return 2 if bad else 0
 
 

@@ -123,8 +123,9 @@ def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
 
 
 def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
-        jobs: int = 1, sheet: str | None = None, progress: bool = True) -> dict:
-    """Score the driver against the outlines of `source` (every character, or the first `count`)."""
+        jobs: int = 1, sheet: str | None = None, progress: bool = True, resolution: int = 3) -> dict:
+    """Score the driver against the outlines of `source` (every character, or the first `count`);
+    the first `resolution` characters are written again at 2 and 4 times the size."""
     size = check_size(size)
     Style.load(style)
     errors: list = []
@@ -141,16 +142,13 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
               "characters": len(order), "failed": failed, **_summary(rows, order),
               "chars_per_s": len(order) / wall if wall > 0 else None}
-    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:RESOLUTION_CHARS]], size, style, seed)
+    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:resolution]], size, style, seed)
     if sheet:
         from ..sheet import Cell, contact_sheet
 
         cells = [Cell(c, overlays.get(c), f"IoU {rows[c]['iou']:.3f}" if c in rows else "failed") for c in glyphs]
         result["sheet"] = contact_sheet(cells, sheet, cell_px=192)
     return result
-
-
-RESOLUTION_CHARS = 3      # characters written again at 2 and 4 times the size
 
 
 def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list:
@@ -375,6 +373,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", default="glyphs_sheet.png",
                    help="contact sheet of overlays (default glyphs_sheet.png; '' for none)")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--resolution", type=int, default=3, metavar="N",
+                   help="characters written again at 2 and 4 times the size, their ink compared (default 3; 0: none)")
 
 
 def handle(args: argparse.Namespace) -> int:
@@ -384,4 +384,5 @@ def handle(args: argparse.Namespace) -> int:
         check_writable(args.sheet)
     source = args.source or f"mmah:{outlines_path()}"
     return run_benchmark("glyphs", args, lambda: run(source, args.size, args.count, args.style, args.seed,
-                                                     args.jobs, args.sheet or None), table)
+                                                     args.jobs, args.sheet or None, resolution=args.resolution),
+                         table)

@@ -13,15 +13,16 @@ reach past the ends.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 
 from ..brush import Brush, Pose
 from ..glyphs.score import iou, stroke_masks
-from .plan import BOUNDS, CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
+from .plan import BOUNDS, CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, Turn, corners_mm, fit_controls
 from .planned import InkGrid, PlanWriter
+from .regions import add_tally, stroke_tally
 from .style import Style, family
 
 FIT_PX = 256              # px of the grid the passes compare on
@@ -34,6 +35,12 @@ MAX_PRESS_STEP = 0.08     # L: most press change a pass
 FRAME_SPEED = 0.5
 MAX_ACROSS_STEP = 1.5     # mm: most move of the root across the stroke a pass
 PRESS_RESPONSE = np.linspace(0.0, 0.5, 26)     # L: presses of the response table
+# the turn gesture every fitted plan starts from: the root on the median's tangent (heading over
+# +-1 mm), run on 2 mm further at a corner, no extra press there
+TURN = Turn(mm=1.0, press=0.0, reach_mm=2.0)
+# the local search's changes: the whole press scaled, the travel's ends and the run past corners moved
+POLISH = (("press", 1.06), ("press", 0.94), ("start_mm", 1.0), ("start_mm", -1.0), ("end_mm", 1.0),
+          ("end_mm", -1.0), ("turn.reach_mm", 1.5), ("turn.reach_mm", -1.5))
 
 
 @dataclass
@@ -200,7 +207,7 @@ def initial_plan(target: Profile, frame: _StrokeFrame, resp: Response, st: Style
     ctl = {"press": fit_controls(s, press, k), "along": fit_controls(s, resp.at("behind_root", press), k),
            "across": fit_controls(s, centre, k), "tilt": [st.tilt_deg], "azimuth": [0.0], "twist": [0.0],
            "speed": [FRAME_SPEED]}
-    return _bounded(StrokePlan(ctl, start, end, Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm)))
+    return _bounded(StrokePlan(ctl, start, end, Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm), TURN))
 
 
 def _bounded(plan: StrokePlan) -> StrokePlan:
@@ -241,8 +248,9 @@ def corrected(plan: StrokePlan, target: Profile, ink: Profile, frame: _StrokeFra
     dw = np.where(ok & ~np.isfinite(ink.width), 0.3 * target.width / ppm, dw)
     dc = np.where(ok & np.isfinite(ink.width), (target.centre - np.nan_to_num(ink.centre)) / ppm, 0.0)
     k_p, k_a = len(plan.controls["press"]), len(plan.controls["across"])
-    new = StrokePlan(dict(plan.controls), plan.start_mm + gain * (target.before - ink.before) / ppm,
-                     plan.end_mm + gain * (target.after - ink.after) / ppm, plan.entry, plan.exit)
+    new = plan.copy()
+    new.start_mm = plan.start_mm + gain * (target.before - ink.before) / ppm
+    new.end_mm = plan.end_mm + gain * (target.after - ink.after) / ppm
     # a pass moves the press at most MAX_PRESS_STEP and the root at most MAX_ACROSS_STEP mm (the
     # width is not monotone in the press: a full step across a plateau overshoots)
     slope = _slope(resp, press, np.nan_to_num(ink.width / ppm), {} if seen is None else seen)
@@ -259,6 +267,7 @@ class GlyphFitter:
     def __init__(self, style: Style, size: int = FIT_PX, passes: int = PASSES):
         self.style, self.size, self.passes = style, size, passes
         self.resp = response(style.preset, float(style.tilt_deg))
+        self.regions: dict | None = None    # {family: tally} (writing/regions.py) when kept
 
     def fit(self, glyph) -> GlyphPlan:
         st = self.style
@@ -296,14 +305,19 @@ class GlyphFitter:
             plan = corrected(plan, target, frame.profile(ink, reach), frame, self.resp, seen=seen)
         best = self._polish(writer, grid, state, best, median, mask)
         # lay the best plan's ink for good, and leave the brush as that stroke left it
-        self._try(writer, grid, state, best[1], median, mask)
+        _, ink = self._try(writer, grid, state, best[1], median, mask)
+        if self.regions is not None:
+            add_tally(self.regions, family(kind), stroke_tally(ink, mask, median, kind, grid.ppm, st.em_mm))
         grid.end_stroke()
         return best[1]
 
     def _polish(self, writer, grid, state, best: tuple, median: Median, mask: np.ndarray) -> tuple:
-        """A small local search: the whole press scaled, the travel's ends moved."""
-        for change in (("press", 1.06), ("press", 0.94), ("start_mm", 1.0), ("start_mm", -1.0),
-                       ("end_mm", 1.0), ("end_mm", -1.0)):
+        """A small local search (POLISH), each change kept when it raises the IoU (the turn's only
+        where the median has a corner)."""
+        cornered = len(corners_mm(median)) > 0
+        for change in POLISH:
+            if change[0].startswith("turn.") and not cornered:
+                continue
             trial = _changed(best[1], *change)
             score, _ = self._try(writer, grid, state, trial, median, mask)
             if score > best[0]:
@@ -312,10 +326,12 @@ class GlyphFitter:
 
 
 def _changed(plan: StrokePlan, what: str, by: float) -> StrokePlan:
-    new = StrokePlan(dict(plan.controls), plan.start_mm, plan.end_mm, plan.entry, plan.exit)
+    new = plan.copy()
     if what == "press":
         new.controls["press"] = [v * by for v in plan.controls["press"]]
-    else:
+    elif what.startswith("turn.") and new.turn is not None:
+        new.turn = replace(new.turn, **{what[5:]: getattr(new.turn, what[5:]) + by})
+    elif not what.startswith("turn."):
         setattr(new, what, getattr(plan, what) + by)
     return _bounded(new)
 

@@ -8,16 +8,17 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from .targets import joins
-from .fit import FRAME_SPEED, GESTURES, controls_count
+from .fit import FRAME_SPEED, GESTURES, TURN, controls_count
 from .plan import CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
 from .style import PROFILE_FAMILIES, Style, family
 
-HAND_VERSION = 1
+HAND_VERSION = 2
 S = np.linspace(0.0, 1.0, 9)                 # where a plan's channels are sampled for learning
 LEARNED = ("press", "along", "across")       # the channels learned; the rest keep the style's
 FEATURES = ("length", "chord_cos", "chord_sin", "start_cos", "start_sin", "end_cos", "end_sin", "turning",
@@ -58,9 +59,14 @@ def stroke_features(medians: list, k: int, width_mm: float) -> np.ndarray:
                      float((turns > math.radians(45)).sum()), float(j0), float(j1), float(_crossings(medians, k))])
 
 
+ROW = 3 * len(S) + 3     # a plan row: LEARNED at S, the reach past the ends, the turn's run past corners
+
+
 def plan_row(plan: StrokePlan) -> np.ndarray:
-    """A plan's learned channels at S, then its reach past the median's start and end (mm)."""
-    return np.concatenate([plan.channel(c, S) for c in LEARNED] + [[plan.start_mm, plan.end_mm]])
+    """A plan's learned channels at S, then its reach past the median's start and end (mm) and
+    its turn's run past corners (mm; the fit's when the plan has no turn)."""
+    turn = plan.turn if plan.turn is not None else TURN
+    return np.concatenate([plan.channel(c, S) for c in LEARNED] + [[plan.start_mm, plan.end_mm, turn.reach_mm]])
 
 
 def medians_mm(glyph, em_mm: float) -> list:
@@ -68,7 +74,7 @@ def medians_mm(glyph, em_mm: float) -> list:
 
 
 class Hand:
-    """Examples a stroke family: features X (n, F) and plan rows Y (n, 3 len(S) + 2)."""
+    """Examples a stroke family: features X (n, F) and plan rows Y (n, ROW)."""
 
     def __init__(self, style: str, families: dict, scale: np.ndarray):
         self.style, self.families, self.scale = style, families, scale
@@ -100,7 +106,7 @@ class Hand:
             raise ValueError(f"{path}: not a hand file ({getattr(e, 'msg', e)})") from None
         if not isinstance(doc, dict) or doc.get("version") != HAND_VERSION or doc.get("features") != list(FEATURES):
             raise ValueError(f"{path}: not a hand file of version {HAND_VERSION} with features {', '.join(FEATURES)}")
-        fams = {f: (np.asarray(v["X"], float).reshape(-1, len(FEATURES)), np.asarray(v["Y"], float).reshape(-1, 3 * len(S) + 2))
+        fams = {f: (np.asarray(v["X"], float).reshape(-1, len(FEATURES)), np.asarray(v["Y"], float).reshape(-1, ROW))
                 for f, v in doc["families"].items()}
         return cls(str(doc.get("style", "")), fams, np.asarray(doc["scale"], float))
 
@@ -136,8 +142,8 @@ def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> Strok
     ctl = {c: fit_controls(S, row[i * n:(i + 1) * n], k) for i, c in enumerate(LEARNED)}
     ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[FRAME_SPEED])
     (ef, eb), (xf, xm) = GESTURES[fam]
-    return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-2]), float(row[-1]),
-                      Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm))
+    return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-3]), float(row[-2]),
+                      Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm), replace(TURN, reach_mm=float(row[-1])))
 
 
 def learn_hand(pairs: list, st: Style) -> Hand:
@@ -149,7 +155,7 @@ def learn_hand(pairs: list, st: Style) -> Hand:
             xs, ys = fams[family(stroke.kind)]
             xs.append(stroke_features(meds, k, st.width_em * st.em_mm))
             ys.append(plan_row(plan))
-    out = {f: (np.array(x).reshape(-1, len(FEATURES)), np.array(y).reshape(-1, 3 * len(S) + 2))
+    out = {f: (np.array(x).reshape(-1, len(FEATURES)), np.array(y).reshape(-1, ROW))
            for f, (x, y) in fams.items() if x}
     allx = np.concatenate([x for x, _ in out.values()])
     return Hand(st.name, out, np.maximum(allx.std(axis=0), 1e-3))

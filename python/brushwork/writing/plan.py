@@ -10,6 +10,12 @@ and twisted `twist(s)` deg; frames lie `speed(s)` frame steps apart. The entry c
 `hover` over `entry.frames` frames, landing `entry.back_mm` ahead of the start and drawn back to it
 (藏锋) as it presses; the exit lifts over `exit.frames` frames while the root moves `exit.move_mm`
 along the stroke (negative: drawn back over the ink, 回锋; positive: flicked out, 出锋).
+
+A plan with a `turn` gesture stands the root `along(s)` mm ahead of the reference point on the
+median's tangent there (the heading smoothed over `turn.mm`), not on the median: at a corner (折,
+a hook's turn) the root runs on past it, so the trailing tuft reaches into the corner, and swings
+round while the reference point passes it, pressed `turn.press` L deeper at the corner (the press
+rising and falling linearly over `turn.mm` either side).
 """
 from __future__ import annotations
 
@@ -74,6 +80,32 @@ class Gesture:
 
 
 @dataclass
+class Turn:
+    """The corner gesture: the window (mm) the heading turns over and the extra press (L) at a corner."""
+    mm: float = 1.0
+    press: float = 0.0
+    reach_mm: float = 0.0
+
+
+CORNER_DEG = 45.0      # a corner: the median turns more than this ...
+CORNER_MM = 3.0        # ... between its chords this far behind and ahead
+
+
+def corners_mm(median: "Median", step_mm: float = 0.25) -> np.ndarray:
+    """Arc lengths (mm) of the median's corners: the local maxima of the turn between the chord
+    CORNER_MM behind and the chord CORNER_MM ahead, where it exceeds CORNER_DEG."""
+    u = np.arange(0.0, median.length + step_mm, step_mm)
+    if len(u) < 3:
+        return np.zeros(0)
+    p = median.at(np.r_[u - CORNER_MM, u, u + CORNER_MM]).reshape(3, len(u), 2)
+    back, ahead = p[1] - p[0], p[2] - p[1]
+    turn = np.degrees(np.abs(np.arctan2(back[:, 0] * ahead[:, 1] - back[:, 1] * ahead[:, 0],
+                                        (back * ahead).sum(axis=1))))
+    peak = (turn > CORNER_DEG) & (turn >= np.r_[0.0, turn[:-1]]) & (turn > np.r_[turn[1:], 0.0])
+    return u[peak]
+
+
+@dataclass
 class StrokePlan:
     """One stroke's plan: control values a channel, the travel's reach past the median's ends
     (mm) and the gestures."""
@@ -82,6 +114,7 @@ class StrokePlan:
     end_mm: float = 0.0
     entry: Gesture = field(default_factory=Gesture)
     exit: Gesture = field(default_factory=Gesture)
+    turn: Turn | None = None
 
     def channel(self, name: str, s: np.ndarray) -> np.ndarray:
         """The channel's values at s (array in [0, 1])."""
@@ -89,10 +122,18 @@ class StrokePlan:
         return bspline_basis(s, len(c)) @ c
 
     def to_json(self) -> dict:
-        return {"controls": {k: [round(float(v), 5) for v in self.controls[k]] for k in CHANNELS},
-                "start_mm": round(self.start_mm, 4), "end_mm": round(self.end_mm, 4),
-                "entry": {"frames": self.entry.frames, "back_mm": round(self.entry.back_mm, 4)},
-                "exit": {"frames": self.exit.frames, "move_mm": round(self.exit.move_mm, 4)}}
+        doc = {"controls": {k: [round(float(v), 5) for v in self.controls[k]] for k in CHANNELS},
+               "start_mm": round(self.start_mm, 4), "end_mm": round(self.end_mm, 4),
+               "entry": {"frames": self.entry.frames, "back_mm": round(self.entry.back_mm, 4)},
+               "exit": {"frames": self.exit.frames, "move_mm": round(self.exit.move_mm, 4)}}
+        if self.turn is not None:
+            doc["turn"] = {"mm": round(self.turn.mm, 4), "press": round(self.turn.press, 4),
+                           "reach_mm": round(self.turn.reach_mm, 4)}
+        return doc
+
+    def copy(self) -> "StrokePlan":
+        """A copy whose controls may be replaced without touching this plan's."""
+        return StrokePlan(dict(self.controls), self.start_mm, self.end_mm, self.entry, self.exit, self.turn)
 
 
 def _number(v, where: str, lo: float, hi: float) -> float:
@@ -122,7 +163,18 @@ def stroke_plan_from_json(doc, where: str) -> StrokePlan:
         gest.append(Gesture(frames, _number(g.get("back_mm", 0.0), f"{where}: {key}.back_mm", -50, 50),
                             _number(g.get("move_mm", 0.0), f"{where}: {key}.move_mm", -50, 50)))
     return StrokePlan(controls, _number(doc.get("start_mm", 0.0), f"{where}: start_mm", -50, 50),
-                      _number(doc.get("end_mm", 0.0), f"{where}: end_mm", -50, 50), *gest)
+                      _number(doc.get("end_mm", 0.0), f"{where}: end_mm", -50, 50), *gest,
+                      _turn_from_json(doc.get("turn"), where))
+
+
+def _turn_from_json(doc, where: str) -> Turn | None:
+    if doc is None:
+        return None
+    if not isinstance(doc, dict):
+        raise PlanError(f"{where}: turn: expected an object")
+    return Turn(_number(doc.get("mm", 1.0), f"{where}: turn.mm", 0.1, 20),
+                _number(doc.get("press", 0.0), f"{where}: turn.press", -0.3, 0.3),
+                _number(doc.get("reach_mm", 0.0), f"{where}: turn.reach_mm", -20, 20))
 
 
 @dataclass
@@ -197,10 +249,11 @@ class Median:
         p += np.minimum(u, 0.0)[:, None] * self.t0 + np.maximum(u - self.length, 0.0)[:, None] * self.t1
         return p
 
-    def heading(self, u: np.ndarray) -> np.ndarray:
-        """(len(u),) rad: the direction of travel at u, from the chord over +-smooth mm."""
+    def heading(self, u: np.ndarray, smooth_mm: float | None = None) -> np.ndarray:
+        """(len(u),) rad: the direction of travel at u, from the chord over +-smooth_mm (default
+        the median's)."""
         u = np.asarray(u, dtype=float)
-        h = max(self.smooth, 1e-3)
+        h = max(self.smooth if smooth_mm is None else smooth_mm, 1e-3)
         d = self.at(u + h) - self.at(u - h)
         return np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
 
@@ -229,6 +282,31 @@ def _travel_s(plan: StrokePlan, span: float, step_mm: float) -> np.ndarray:
     return np.array(out)
 
 
+def _roots(plan: StrokePlan, median: Median, ref: np.ndarray, along: np.ndarray,
+           across: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(len(ref), 2) mm roots and (len(ref),) rad headings for reference points at arc lengths
+    `ref`: `along` mm ahead on the median (no turn gesture) or on its tangent (a turn gesture),
+    `across` mm to its left."""
+    if plan.turn is None:
+        u = ref + along
+        head = median.heading(u)
+        base = median.at(u)
+    else:
+        head = median.heading(ref, plan.turn.mm)
+        base = median.at(ref) + along[:, None] * np.stack([np.cos(head), np.sin(head)], axis=1)
+    return base + across[:, None] * np.stack([-np.sin(head), np.cos(head)], axis=1), head
+
+
+def _at_corners(plan: StrokePlan, median: Median, ref: np.ndarray, width: float) -> np.ndarray:
+    """(len(ref),) in [0, 1]: 1 at each corner of the median, falling linearly to 0 `width` mm
+    either side (0 everywhere without a turn gesture)."""
+    near = np.zeros(len(ref))
+    if plan.turn is not None:
+        for c in corners_mm(median):
+            near = np.maximum(near, np.clip(1.0 - np.abs(ref - c) / width, 0.0, 1.0))
+    return near
+
+
 def sample(plan: StrokePlan, median: Median, shape_length: float, step_mm: float, hover: float) -> Frames:
     """The plan's poses along `median`: the entry, the travel (frames `step_mm` x speed apart) and
     the exit. shape_length: the tuft length L (mm; the press's unit); hover: L above first contact
@@ -237,26 +315,26 @@ def sample(plan: StrokePlan, median: Median, shape_length: float, step_mm: float
     s = _travel_s(plan, span, step_mm)
     ch = {k: plan.channel(k, s) for k in CHANNELS}
     ref = -plan.start_mm + s * span
-    u_root = ref + ch["along"]
+    if plan.turn is not None:
+        ch["press"] = ch["press"] + plan.turn.press * _at_corners(plan, median, ref, plan.turn.mm)
+        ch["along"] = ch["along"] + plan.turn.reach_mm * _at_corners(plan, median, ref, CORNER_MM)
+    travel_press = ch["press"]
     # entry: hovering over the landing point, then pressed while drawn back to the start
     e = plan.entry.frames
     te = np.arange(1, e + 1) / max(e, 1)
-    u_in = np.r_[u_root[0] + plan.entry.back_mm, u_root[0] + plan.entry.back_mm * (1.0 - te)]
-    p_in = np.r_[-hover, -hover + (ch["press"][0] + hover) * te]
+    r_in = np.r_[ref[0] + plan.entry.back_mm, ref[0] + plan.entry.back_mm * (1.0 - te)]
+    p_in = np.r_[-hover, -hover + (travel_press[0] + hover) * te]
     # exit: lifted while moving along
     x = plan.exit.frames
     tx = np.arange(1, x + 1) / max(x, 1)
-    u_out = u_root[-1] + plan.exit.move_mm * tx
-    p_out = ch["press"][-1] + (-hover - ch["press"][-1]) * tx
-    u = np.r_[u_in, u_root, u_out]
-    n_in, n_out = len(u_in), len(u_out)
+    r_out = ref[-1] + plan.exit.move_mm * tx
+    p_out = travel_press[-1] + (-hover - travel_press[-1]) * tx
+    n_in, n_out = len(r_in), len(r_out)
     def pad(a):
         return np.r_[np.full(n_in, a[0]), a, np.full(n_out, a[-1])]
-    across = pad(ch["across"])
-    head = median.heading(u)
-    root = median.at(u) + across[:, None] * np.stack([-np.sin(head), np.cos(head)], axis=1)
+    root, head = _roots(plan, median, np.r_[r_in, ref, r_out], pad(ch["along"]), pad(ch["across"]))
     tilt = pad(ch["tilt"])
-    press = np.r_[p_in, ch["press"], p_out]
+    press = np.r_[p_in, travel_press, p_out]
     z = shape_length * np.cos(np.radians(tilt)) - press * shape_length
     on = np.r_[np.zeros(n_in, bool), np.ones(len(s), bool), np.zeros(n_out, bool)]
     return Frames(np.column_stack([root, z]), tilt, np.degrees(head) + pad(ch["azimuth"]), pad(ch["twist"]),

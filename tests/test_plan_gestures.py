@@ -1,0 +1,100 @@
+"""The turn gesture of a plan (the root on the median's tangent, running on past a corner) and
+where a fitted stroke's ink misses its outline, by region (`brushwork fit --regions`)."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from brushwork.cli import main
+from brushwork.writing import Style
+from brushwork.writing.plan import Median, PlanError, corners_mm, sample, stroke_plan_from_json
+from brushwork.writing.planned import InkGrid, PlanWriter
+from brushwork.writing.regions import REGIONS, stroke_tally
+
+DATA = Path(__file__).parent / "data" / "mmah" / "graphics.txt"
+SOURCE = f"mmah:{DATA}"
+# an L: right along y = 70 mm, then down x = 70 mm (a 横折's corner at (70, 70))
+ELL = np.array([[20.0, 70.0], [70.0, 70.0], [70.0, 20.0]])
+
+
+def _plan(turn=None, press=0.3):
+    doc = {"controls": {"along": [8.5] * 5, "across": [0.0], "press": [press] * 5, "tilt": [15.0],
+                        "azimuth": [0.0], "twist": [0.0], "speed": [0.5]},
+           "start_mm": 0.0, "end_mm": 0.0, "entry": {"frames": 4, "back_mm": 0.0},
+           "exit": {"frames": 4, "move_mm": 0.0}}
+    if turn is not None:
+        doc["turn"] = turn
+    return stroke_plan_from_json(doc, "test")
+
+
+def test_a_median_has_a_corner_where_it_turns_sharply_and_none_on_a_gentle_arc():
+    assert corners_mm(Median(ELL)) == pytest.approx([50.0], abs=0.3)
+    arc = np.stack([50 + 40 * np.cos(np.linspace(0, 1.2, 40)), 50 + 40 * np.sin(np.linspace(0, 1.2, 40))], axis=1)
+    assert len(corners_mm(Median(arc))) == 0
+
+
+def test_with_a_turn_the_root_runs_on_past_the_corner_and_without_it_cuts_across():
+    med = Median(ELL)
+    plain = sample(_plan(), med, 18.0, 1.0, 0.12).root
+    turned = sample(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}), med, 18.0, 1.0, 0.12).root
+    # on the median the root never passes x = 70; on the tangent it runs on up to 8.5 + 2 mm past
+    # it (the heading turns over +-1 mm of the corner)
+    assert plain[:, 0].max() == pytest.approx(70.0, abs=1e-6)
+    assert 78.5 < turned[:, 0].max() <= 80.5 + 1e-6
+    # and comes back to the median's second leg, 8.5 mm down it, once past the corner
+    assert np.min(np.hypot(turned[:, 0] - 70.0, turned[:, 1] - 20.0 + 8.5)) < 0.6
+
+
+def _ink(plan) -> np.ndarray:
+    st = Style.load("kai")
+    grid = InkGrid(256, st.em_mm)
+    writer = PlanWriter(st, grid)
+    writer.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
+    writer.write_stroke(plan, Median(ELL))
+    return grid.ink()
+
+
+def test_a_turned_corner_fills_the_outer_shoulder_the_trailing_tuft_cuts_otherwise():
+    ppm = 256 / 100.0
+    # the outer shoulder: the square 3 mm up and right of the corner's outer edge (y down in px)
+    x0, x1 = int(70.5 * ppm), int(73.5 * ppm)
+    y0, y1 = int((100 - 73.5) * ppm), int((100 - 70.5) * ppm)
+    cut = _ink(_plan())[y0:y1, x0:x1].mean()
+    turned = _ink(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}))[y0:y1, x0:x1].mean()
+    assert turned > cut + 0.3
+
+
+def test_a_bad_turn_names_the_field():
+    with pytest.raises(PlanError, match="turn.reach_mm"):
+        _plan({"mm": 1.0, "press": 0.0, "reach_mm": "far"})
+
+
+def test_a_plans_turn_survives_its_json():
+    plan = _plan({"mm": 1.5, "press": 0.05, "reach_mm": 3.0})
+    again = stroke_plan_from_json(json.loads(json.dumps(plan.to_json())), "test")
+    assert (again.turn.mm, again.turn.press, again.turn.reach_mm) == (1.5, 0.05, 3.0)
+    assert "turn" not in _plan().to_json()
+
+
+def test_the_tally_puts_a_missed_corner_in_the_corner_and_nothing_where_ink_matches():
+    med, ppm = Median(ELL), 256 / 100.0
+    ink = _ink(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}))
+    same = stroke_tally(ink, ink, med, "㇕", ppm, 100.0)
+    assert same[:, 1:].sum() == 0 and same[:, 0].sum() == ink.sum()
+    holed = ink.copy()
+    cx, cy = int(70 * ppm), int(30 * ppm)
+    holed[cy - 4:cy + 4, cx - 4:cx + 4] = False
+    tally = stroke_tally(holed, ink, med, "㇕", ppm, 100.0)
+    corner = REGIONS.index("corner")
+    assert tally[corner, 1] == (ink & ~holed).sum() and tally[:, 2].sum() == 0
+
+
+def test_fit_regions_prints_each_familys_misses_by_region(tmp_path, capsys):
+    assert main(["fit", "--chars", "凡", "--source", SOURCE, "--out", str(tmp_path), "--no-progress",
+                 "--regions"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    rows = [ln.split() for ln in out if ln.split() and ln.split()[0] in ("plain", "hook", "tapered", "dot")]
+    assert rows and all(r[1] in REGIONS for r in rows)
+    shares = [float(r[3].rstrip("%")) for r in rows]
+    assert sum(shares) == pytest.approx(100.0, abs=0.5)
