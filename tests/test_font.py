@@ -190,14 +190,16 @@ def test_freetype_draws_what_the_brush_drew(fonts, renders, ext):
 
 
 def test_a_tight_tolerance_reproduces_the_render(tmp_path, renders):
-    """Fitted within 0.05 px on average (0.2 px at most), FreeType's 512 px raster of each glyph
-    matches the brush's 512 px render to IoU 0.99."""
+    """Fitted within 0.05 px on average (0.2 px at most), and tidied (near-flat curves and
+    near-colinear lines straightened within half a font unit, 0.26 px here), FreeType's 512 px
+    raster of each glyph matches the brush's 512 px render to IoU 0.988: what differs is single
+    edge pixels whose coverage sits near one half."""
     from brushwork.font.check import glyph_fidelity
 
     path = tmp_path / "tight.otf"
     build_font(SIMPLE, path, tolerance=0.05)
     for c in SIMPLE:
-        assert glyph_fidelity(path, c, renders[c].rgb, Em(), renders[c].shift)["iou"] >= 0.99, c
+        assert glyph_fidelity(path, c, renders[c].rgb, Em(), renders[c].shift)["iou"] >= 0.988, c
 
 
 def test_outline_points_lie_on_the_em_square_the_render_spans(fonts, renders):
