@@ -129,8 +129,10 @@ class Writer:
         dep = self.paper.deposit(self.brush)
         # a break: the brush came down again after leaving the paper within one stroke
         self.breaks += int(dep.new_stroke and self.touched_in_stroke)
-        self.touched_in_stroke = self.touched_in_stroke or dep.contact
-        self.touching = dep.contact
+        # touching as the core's own footprint sees it (whatever the paper's resolution, which
+        # only samples the scene: its mesh's contact may differ by a frame at a stroke's ends)
+        self.touching = bool(self.contact)
+        self.touched_in_stroke = self.touched_in_stroke or self.touching
         self.frames += 1
 
     def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
