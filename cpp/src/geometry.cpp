@@ -90,7 +90,54 @@ constexpr double kMinFootprintArea = 1e-9;
 struct SweepInput {
   std::vector<Vec3> C, U, W, N, D;  // D: unit Catmull-Rom tangent directions at the centres
   std::vector<double> AP, AM, CC;
+  std::vector<double> H;              // (S-1) mm, chord |O_i+1 - O_i| (at least kMinChord)
+  std::vector<double> MAP, MAM, MCC;  // (S) slopes d(radius)/d(arc) of a+, a-, c at the centres
 };
+
+// mm, a chord between two section centres shorter than this is taken as this long (the radii's
+// slopes stay finite where two centres coincide)
+constexpr double kMinChord = 1e-9;
+
+// PCHIP's one-sided slope at an end: the three-point estimate from the end's two secants d0
+// (the end's own) and d1, over knots h0 and h1 apart; zero against d0's sign, at most 3 d0
+// where the two secants differ in sign
+double end_slope(double d0, double d1, double h0, double h1) {
+  const double m = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
+  if (m * d0 <= 0.0) return 0.0;
+  if (d0 * d1 < 0.0 && std::abs(m) > 3.0 * std::abs(d0)) return 3.0 * d0;
+  return m;
+}
+
+// slopes of a monotone piecewise-cubic Hermite interpolant of the radii r over knots h apart
+// (Fritsch-Carlson, with PCHIP's weighted harmonic mean and ends): continuous slope along the
+// spine, no overshoot between two sections (a radius never leaves the range of its two ends),
+// flat at a local extremum. The last segment, the one nearest the tip, is the chord itself, its
+// slope carried into the section above: the radii of a tuft narrowing ever faster toward its tip
+// are concave there, and any C1 curve through concave radii rises above their chords, so a
+// curved tip segment would leave a footprint wider than the cone's where only the tip touches
+// (a club where a light stroke lifts)
+std::vector<double> monotone_slopes(const std::vector<double>& r, const std::vector<double>& h) {
+  const std::size_t S = r.size();
+  std::vector<double> d(S - 1);  // secant slopes delta_k
+  for (std::size_t k = 0; k + 1 < S; ++k) d[k] = (r[k + 1] - r[k]) / h[k];
+  if (S == 2) return {d[0], d[0]};
+  std::vector<double> m(S, 0.0);
+  for (std::size_t k = 1; k + 1 < S; ++k) {
+    if (d[k - 1] * d[k] <= 0.0) continue;  // an extremum (or a flat run): flat
+    const double w1 = 2.0 * h[k] + h[k - 1], w2 = h[k] + 2.0 * h[k - 1];
+    m[k] = (w1 + w2) / (w1 / d[k - 1] + w2 / d[k]);
+  }
+  m[0] = end_slope(d[0], d[1], h[0], h[1]);
+  // the tip segment straight: both its ends at its own secant, which the segment above may take
+  // as its end slope as long as it stays monotone (Fritsch-Carlson: at most 3 times its secant)
+  m[S - 1] = d[S - 2];
+  m[S - 2] = d[S - 2];
+  if (d[S - 3] * d[S - 2] <= 0.0)
+    m[S - 2] = 0.0;
+  else if (std::abs(d[S - 2]) > 3.0 * std::abs(d[S - 3]))
+    m[S - 2] = 3.0 * d[S - 3];
+  return m;
+}
 
 void check_options(std::size_t S, const MeshOptions& opt) {
   if (S < 2) {
@@ -130,6 +177,11 @@ SweepInput checked_sections(const std::vector<Section>& sections) {
     const double len = m.norm();
     in.D[i] = len > kZeroLength ? Vec3(m / len) : Vec3::Zero();
   }
+  in.H.resize(S - 1);
+  for (std::size_t i = 0; i + 1 < S; ++i) in.H[i] = std::max((C[i + 1] - C[i]).norm(), kMinChord);
+  in.MAP = monotone_slopes(in.AP, in.H);
+  in.MAM = monotone_slopes(in.AM, in.H);
+  in.MCC = monotone_slopes(in.CC, in.H);
   return in;
 }
 
@@ -173,10 +225,18 @@ Ring sweep_ring(const SweepInput& in, int i0, double s, bool first, Vec3& prev_u
   }
   ring.w = w * handed;
 
-  // radii (a + r_lat, b + r_lat, c) interpolated linearly
-  ring.ap = (1.0 - s) * in.AP[i0] + s * in.AP[i1];
-  ring.am = (1.0 - s) * in.AM[i0] + s * in.AM[i1];
-  ring.cr = (1.0 - s) * in.CC[i0] + s * in.CC[i1];
+  // radii (a + r_lat, b + r_lat, c): monotone cubic Hermite over the arc (continuous slope
+  // through the sections, so a flattened tuft's outline has no kink at each Omega_i; straight
+  // on the segment nearest the tip, see monotone_slopes); beyond the last section the cone to
+  // the apex
+  const double h = in.H[i0];
+  const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  auto radius = [&](const std::vector<double>& r, const std::vector<double>& m) {
+    return h00 * r[i0] + h10 * h * m[i0] + h01 * r[i1] + h11 * h * m[i1];
+  };
+  ring.ap = radius(in.AP, in.MAP);
+  ring.am = radius(in.AM, in.MAM);
+  ring.cr = radius(in.CC, in.MCC);
   return ring;
 }
 
