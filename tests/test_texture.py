@@ -17,10 +17,7 @@ def test_no_repeat_in_a_long_dry_stroke(dry8):
 
 
 def test_the_repeat_detector_finds_a_repeating_grain():
-    # a two-level lattice: a repeat the dry streaks cannot hide (a uniform random one repeats
-    # as weakly as 0.30-0.77 by seed, against 0.27-0.30 for the procedural fields)
-    grid = (np.random.default_rng(3).random((texture.GRID_CELLS, texture.GRID_CELLS)) > 0.5).astype(float)
-    score = texture.repeat_score(texture.dry_stroke(8.0, grain_image=grid), 8.0)
+    score = texture.repeat_score(texture.dry_stroke(8.0, grain_image=texture.control_grain(3)), 8.0)
     assert score["repeat"] > 0.5, score
 
 
