@@ -47,7 +47,7 @@ def test_with_a_turn_the_root_runs_on_past_the_corner_and_without_it_cuts_across
 
 
 def _ink(plan) -> np.ndarray:
-    st = Style.load("kai")
+    st = Style.load("kai-learned")      # the style whose hand writes plans
     grid = InkGrid(256, st.em_mm)
     writer = PlanWriter(st, grid)
     writer.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)

@@ -65,10 +65,10 @@ def _cache_key(style: Style, seed: int, size: int, tol: float, variable: bool = 
     """What the cached outlines depend on: the style, seed, size and tolerance, the ink's path
     (geometry's exact loops or the traced image), the outline format,
     the weight masters of a variable font, and the brush (brushwork's version and every parameter
-    of the style's preset), so that another brush never reuses them."""
-    from .. import BrushModel, __version__
+    of the style's brush), so that another brush never reuses them."""
+    from .. import __version__
 
-    model = BrushModel.preset(style.preset)
+    model = style.model()
     brush = {p["name"]: getattr(model, p["name"]) for p in model.parameters()}
     masters = MASTERS if variable else None
     doc = json.dumps([asdict(style), seed, size, tol, OUTLINE_FORMAT, __version__, brush, masters, ink], sort_keys=True,

@@ -51,7 +51,7 @@ class Writer:
 
     def __init__(self, paper: Paper, style: Style, seed: int = 0):
         self.paper, self.style = paper, style
-        self.brush = Brush(style.preset)
+        self.brush = Brush(style.model())
         self.rng = np.random.default_rng(seed)
         self.shape = self.brush.model     # a copy of the brush's model: its tuft length sets the root heights
         self.L = self.shape.tuft_length

@@ -23,6 +23,7 @@ from ..glyphs.score import iou, stroke_masks
 from .plan import BOUNDS, CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, Turn, corners_mm, fit_controls
 from .planned import InkGrid, PlanWriter
 from .regions import add_tally, stroke_tally
+from .style import brush_model
 from .style import Style, family
 
 FIT_PX = 256              # px of the grid the passes compare on
@@ -75,10 +76,10 @@ class Response:
 
 
 @lru_cache(maxsize=8)
-def response(preset: str, tilt_deg: float) -> Response:
-    """Drag the brush straight along +x at each press of PRESS_RESPONSE and read its footprint
-    once it is steady."""
-    b = Brush(preset)
+def response(preset: str, tilt_deg: float, changes: tuple = ()) -> Response:
+    """Drag the brush (the preset, with the (field, value) pairs of `changes` set) straight along
+    +x at each press of PRESS_RESPONSE and read its footprint once it is steady."""
+    b = Brush(brush_model(preset, dict(changes)))
     L = b.model.tuft_length
     rows = []
     for p in PRESS_RESPONSE:
@@ -266,7 +267,7 @@ class GlyphFitter:
 
     def __init__(self, style: Style, size: int = FIT_PX, passes: int = PASSES):
         self.style, self.size, self.passes = style, size, passes
-        self.resp = response(style.preset, float(style.tilt_deg))
+        self.resp = response(style.preset, float(style.tilt_deg), tuple(sorted(style.brush.items())))
         self.regions: dict | None = None    # {family: tally} (writing/regions.py) when kept
 
     def fit(self, glyph) -> GlyphPlan:

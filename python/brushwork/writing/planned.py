@@ -74,7 +74,7 @@ class PlanWriter:
     def __init__(self, style: Style, sink, brush: Brush | None = None, origin_mm=(0.0, 0.0)):
         self.style, self.sink = style, sink
         self.origin = np.asarray(origin_mm, dtype=float)
-        self.brush = brush if brush is not None else Brush(style.preset)
+        self.brush = brush if brush is not None else Brush(style.model())
         self.L = self.brush.model.tuft_length
         self.frames = 0
 

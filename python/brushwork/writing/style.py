@@ -53,7 +53,8 @@ class StyleField:
 
     def range_text(self) -> str:
         if self.lo is None:
-            return {"scene": "Scene settings", "profiles": "s 0..1, factor 0..5"}.get(self.kind, "-")
+            return {"scene": "Scene settings", "profiles": "s 0..1, factor 0..5",
+                    "brush": "BrushModel fields"}.get(self.kind, "-")
         lo = f"> {self.lo:g}" if self.lo_open else f"{self.lo:g}"
         return f"{lo} .. {self.hi:g}" if self.lo_open else f"{lo}..{self.hi:g}"
 
@@ -63,6 +64,8 @@ FIELDS: tuple[StyleField, ...] = (
     _F("name", "str", "-", None, None, None, "the style's name", required=True),
     _F("description", "str", "-", None, None, "", "what the hand looks like"),
     _F("preset", "str", "-", None, None, "medium", "the brush: a BrushModel preset (`brushwork params`)"),
+    _F("brush", "brush", "-", None, None, {},
+       "the preset's model parameters this style sets otherwise, e.g. {\"spread_reach\": 1} (`brushwork params`)"),
     _F("em_mm", "float", "mm", 1.0, 1000.0, 100.0, "physical size of the em box on the paper"),
     _F("width_em", "float", "em", 0.0, 0.5, 0.06, "nominal stroke width", lo_open=True),
     _F("tilt_deg", "float", "deg", 0.0, 60.0, 15.0, "handle against the paper's normal, leaning along the travel"),
@@ -165,6 +168,33 @@ def _check_scene(value) -> str | None:
     return None
 
 
+def brush_model(preset: str, changes: dict):
+    """The BrushModel of `preset` with the fields of `changes` set; ValueError naming a field
+    that is not one, or a value out of its range."""
+    from .._core import BrushModel
+
+    model = BrushModel.preset(preset)
+    names = {p["name"] for p in model.parameters()}
+    for name, value in changes.items():
+        if name not in names:
+            raise ValueError(f"{name}: not a BrushModel field")
+        if not _is_number(value) and not isinstance(value, bool):
+            raise ValueError(f"{name}: a number")
+        setattr(model, name, value)
+    model.validate()
+    return model
+
+
+def _check_brush(value) -> str | None:
+    if not isinstance(value, dict):
+        return "an object of BrushModel fields"
+    try:
+        brush_model("medium", value)
+    except (TypeError, ValueError) as err:
+        return f"BrushModel fields ({str(err).splitlines()[0]})"
+    return None
+
+
 def _check_str(f: StyleField, value) -> str | None:
     if not isinstance(value, str):
         return "a string"
@@ -197,7 +227,8 @@ def _why(f: StyleField, value) -> str | None:
     if f.kind in ("float?", "file?") and value is None:
         return None
     checks = {"str": _check_str, "pair": _check_pair, "map": _check_map, "file?": _check_file,
-              "scene": lambda _, v: _check_scene(v), "profiles": lambda _, v: _check_profiles(v)}
+              "scene": lambda _, v: _check_scene(v), "profiles": lambda _, v: _check_profiles(v),
+              "brush": lambda _, v: _check_brush(v)}
     return checks.get(f.kind, _check_number)(f, value)
 
 
@@ -255,6 +286,10 @@ class _StyleMethods:
         path = Path(self.hand)
         return path if path.is_absolute() else STYLE_DIR / path
 
+    def model(self):
+        """The brush this style writes with: its preset's BrushModel with `brush`'s fields set."""
+        return brush_model(self.preset, self.brush)
+
     def density(self, strokes: int) -> float:
         """Width factor of a character of `strokes` strokes (density_gain), within 0.7..1.3."""
         return float(np.clip(1.0 - self.density_gain * (strokes - self.density_strokes), 0.7, 1.3))
@@ -290,7 +325,7 @@ def _dataclass_field(f: StyleField):
 
 
 _TYPES = {"file?": "str | None", "str": str, "float": float, "int": int, "float?": "float | None", "pair": tuple, "map": dict,
-          "scene": dict, "profiles": dict}
+          "scene": dict, "profiles": dict, "brush": dict}
 
 
 def style_dataclass(name: str, fields: tuple, bases: tuple) -> type:
