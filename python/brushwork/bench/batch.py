@@ -38,7 +38,7 @@ class _Timed:
             self.counters[self.name] = self.counters.get(self.name, 0.0) + time.perf_counter() - t0
 
 
-def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None, ink: str = "gl") -> dict:
+def breakdown(glyphs: list, size: int, style: str = "kai", samples: int | None = None, ink: str = "auto") -> dict:
     """Where one process's time goes while writing `glyphs` at `size` px: seconds in the brush's
     step (the solver), in the paper's deposit (GL, or the geometry's sweep), in the driver's own
     Python, in the geometry's union and raster (on readback), and in PNG saving."""
@@ -98,7 +98,7 @@ def time_batch(entry: Entry, text: str, options: list) -> dict:
 
 
 def run(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
-        style: str = "kai", progress: bool = True, samples: int | None = None, ink: str = "gl") -> dict:
+        style: str = "kai", progress: bool = True, samples: int | None = None, ink: str = "auto") -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
     across the set (those the source has), then one process's time breakdown on a few of them."""
     size, samples = check_size(size), check_samples(samples)
@@ -148,8 +148,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
     p.add_argument("--style", default="kai", help="writing style (default kai)")
     p.add_argument("--samples", type=int, default=None, help="multisampling: 1, 2, 4 or 8 (default: the style's)")
-    p.add_argument("--ink", default="gl", help="gl (default), geometry or auto, or several with commas (geometry,gl): "
-                                               "each measured in turn, in this one run")
+    p.add_argument("--ink", default="auto", help="auto (default, as batch), geometry or gl, or several with commas "
+                                                 "(geometry,gl): each measured in turn, in this one run")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
 
 

@@ -50,7 +50,7 @@ def handle(args: argparse.Namespace) -> int:
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples, executor=args.executor,
-                          ink=args.ink or "gl", plans=args.plans)
+                          ink=args.ink or "auto", plans=args.plans)
     failures = batch.write_failures(res, args.out)
     print(batch.summary(res, failures))
     if args.sheet and not res.interrupted:

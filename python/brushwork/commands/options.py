@@ -28,10 +28,10 @@ def image_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--bits", type=int, default=8, help="bits per channel, 8 or 16 (16: .png and .tif only; default 8)")
     p.add_argument("--transparent", action="store_true", help="ink on transparency instead of white")
     p.add_argument("--ink", default=None, choices=("auto", "geometry", "gl"),
-                   help="how the ink is made: gl (the EGL footprint pass; the default for images), geometry (exact "
-                        "outlines in mm swept continuously between frames, rasterised without GL; the default for "
-                        ".svg and .pdf) or auto (geometry unless the style's scene has split, dry or grain maps, a "
-                        "soaked tip or a colour ramp)")
+                   help="how the ink is made: auto (the default: geometry unless the style's scene has split, dry "
+                        "or grain maps, a soaked tip or a colour ramp, then gl), geometry (exact outlines in mm swept "
+                        "continuously between frames, rasterised without GL; always for .svg and .pdf) or gl (the EGL "
+                        "footprint pass)")
 
 
 def plans_argument(p: argparse.ArgumentParser) -> None:

@@ -60,7 +60,7 @@ def handle(args: argparse.Namespace) -> int:
     check_request(chars, args.size, args.bits, args.samples, args.seed)
     style = Style.load(args.style)
     vectors = os.path.splitext(args.output)[1].lower() in VECTOR_FORMATS
-    ink = args.ink or ("geometry" if vectors else "gl")
+    ink = args.ink or ("geometry" if vectors else "auto")
     if vectors and ink_path(Scene(**style.scene), ink) != "geometry":
         raise ValueError(f"{args.output}: vector outlines come from the ink's geometry; --ink {ink} takes the "
                          f"GL pass for style {style.name}")
