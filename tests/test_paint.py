@@ -388,7 +388,7 @@ def test_undo_keeps_a_bounded_number_of_bytes():
 
 def test_log_names_never_collide(tmp_path):
     """Logs made in the same second by two servers (or two paintings) get names of their own."""
-    from brushwork.paint.session import create_log
+    from brushwork.paint.connection import create_log
 
     (tmp_path / "paint-20260101-000000-abcd.json").write_text("{}", encoding="utf-8")
     names = [create_log(str(tmp_path), "20260101-000000", "abcd") for _ in range(3)]

@@ -70,7 +70,7 @@ class Painter:
 
     def _apply(self, msg: dict) -> None:
         from ..paint.painting import Painting
-        from ..paint.session import message_events
+        from ..paint.connection import message_events
 
         if self.painting is None:
             self.painting = Painting({"width_mm": 40, "height_mm": 30, "px_per_mm": 2.0})

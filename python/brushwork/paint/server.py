@@ -1,7 +1,7 @@
 """The web app of `brushwork paint`: the page, each painting as PNG and log, and a WebSocket that
 takes pen samples and answers with the changed part of the paper (the protocol: docs/paint.md).
 
-Each WebSocket connection paints a painting of its own (`session.Session`: its brush, pen, undo
+Each WebSocket connection paints a painting of its own (`connection.Connection`: its brush, pen, undo
 and log, worked on a thread of its own); `GET /image.png` and `/log.json` name one with
 `?painting=ID` (the `hello` message's `painting`), or take the only one. The event loop does no
 painting: it checks messages, answers `ping` at once and passes the rest on. A re-render from the
@@ -23,7 +23,7 @@ from aiohttp import WSMsgType, web
 
 from .painting import MAX_TUFTS, SCENE_FLAGS, show
 from .protocol import MAX_FRAME, MAX_SAMPLES, RATE, Bucket, Pen, admit, parse_message
-from .session import Session, png_bytes
+from .connection import Connection, png_bytes
 
 DEFAULT_PPM = 5.0            # px per mm of the page's paper
 MAX_PAINTINGS = 16           # paintings (connections) at once; another is told so and closed
@@ -57,40 +57,40 @@ class Server:
 
     def __init__(self, settings: dict, log_dir: str | None):
         self.settings, self.log_dir = settings, log_dir
-        self.sessions: dict[str, Session] = {}
+        self.connections: dict[str, Connection] = {}
         self.tasks: dict[str, asyncio.Task] = {}
         self.rerenders = 0                 # re-renders running
         self.stopping = threading.Event()  # set when the server stops: every re-render ends
 
-    async def open(self, ws) -> Session:
-        session = Session(secrets.token_hex(4), ws, self.log_dir)
-        self.sessions[session.id] = session
-        await session.open(self.settings)
-        self.tasks[session.id] = asyncio.ensure_future(session.run())
-        return session
+    async def open(self, ws) -> Connection:
+        conn = Connection(secrets.token_hex(4), ws, self.log_dir)
+        self.connections[conn.id] = conn
+        await conn.open(self.settings)
+        self.tasks[conn.id] = asyncio.ensure_future(conn.run())
+        return conn
 
-    async def close(self, session: Session) -> None:
-        self.sessions.pop(session.id, None)
-        task = self.tasks.pop(session.id, None)
+    async def close(self, conn: Connection) -> None:
+        self.connections.pop(conn.id, None)
+        task = self.tasks.pop(conn.id, None)
         if task is not None:
             task.cancel()
-        await session.close()
+        await conn.close()
 
     async def close_all(self) -> None:
         self.stopping.set()
-        await asyncio.gather(*(self.close(s) for s in list(self.sessions.values())), return_exceptions=True)
+        await asyncio.gather(*(self.close(s) for s in list(self.connections.values())), return_exceptions=True)
 
-    def find(self, request: web.Request) -> Session:
+    def find(self, request: web.Request) -> Connection:
         """The painting ?painting=ID names, or the only one (HTTP 404 / 400 otherwise)."""
         sid = request.query.get("painting")
         if sid is not None:
-            if sid not in self.sessions or self.sessions[sid].closed.is_set():
+            if sid not in self.connections or self.connections[sid].closed.is_set():
                 raise web.HTTPNotFound(text=f"painting = {show(sid)}: no such painting (it ends when its page closes)")
-            return self.sessions[sid]
-        if len(self.sessions) == 1:
-            return next(iter(self.sessions.values()))
+            return self.connections[sid]
+        if len(self.connections) == 1:
+            return next(iter(self.connections.values()))
         raise web.HTTPBadRequest(text="painting: name one with ?painting=ID (the page's hello message)"
-                                 if self.sessions else "no painting: open the page to start one")
+                                 if self.connections else "no painting: open the page to start one")
 
     @staticmethod
     def hello() -> dict:
@@ -114,28 +114,28 @@ async def _ws(request: web.Request) -> web.WebSocketResponse:
     server: Server = request.app[SERVER]
     ws = web.WebSocketResponse(max_msg_size=MAX_FRAME, heartbeat=30.0, timeout=1.0)
     await ws.prepare(request)
-    if len(server.sessions) >= MAX_PAINTINGS:
+    if len(server.connections) >= MAX_PAINTINGS:
         await ws.send_json({"type": "error", "message": f"the server paints {MAX_PAINTINGS} paintings at "
                             "once: try again when one closes"})
         await ws.close()
         return ws
-    session = await server.open(ws)
+    conn = await server.open(ws)
     try:
-        for msg in await session.call(session.greeting, server.hello()):
-            await session.send(msg)
-        await _read(ws, session)
+        for msg in await conn.call(conn.greeting, server.hello()):
+            await conn.send(msg)
+        await _read(ws, conn)
     finally:
-        await server.close(session)
+        await server.close(conn)
     return ws
 
 
-async def _read(ws: web.WebSocketResponse, session: Session) -> None:
+async def _read(ws: web.WebSocketResponse, conn: Connection) -> None:
     """Check each message; answer pings at once, pass the rest to the painting's queue."""
     buckets = {k: Bucket(*v) for k, v in RATE.items()}
-    pen = Pen(session.painting.ppm)
+    pen = Pen(conn.painting.ppm)
     async for m in ws:
         if m.type != WSMsgType.TEXT:
-            await session.send({"type": "error", "message": "only text messages (JSON) are accepted"})
+            await conn.send({"type": "error", "message": "only text messages (JSON) are accepted"})
             continue
         err = admit(m.data, buckets)
         if err is None:
@@ -145,11 +145,11 @@ async def _read(ws: web.WebSocketResponse, session: Session) -> None:
             except ValueError as e:
                 err = str(e)
         if err is not None:
-            await session.send({"type": "error", "message": err})
+            await conn.send({"type": "error", "message": err})
         elif msg["type"] == "ping":
-            await session.send({"type": "pong", "seq": msg["seq"]})
+            await conn.send({"type": "pong", "seq": msg["seq"]})
         else:
-            await session.queue.put(msg)
+            await conn.queue.put(msg)
 
 
 async def _static(request: web.Request) -> web.Response:
@@ -174,10 +174,10 @@ async def _image(request: web.Request) -> web.Response:
     server: Server = request.app[SERVER]
     size = request.query.get("size")
     n = parse_size(size) if size is not None else None
-    session = server.find(request)
+    conn = server.find(request)
     if n is None:
-        return web.Response(body=await session.call(session.png), content_type="image/png")
-    body = await _rerender(request, server, session, n)
+        return web.Response(body=await conn.call(conn.png), content_type="image/png")
+    body = await _rerender(request, server, conn, n)
     return web.Response(body=body, content_type="image/png",
                         headers={"Content-Disposition": f'attachment; filename="paint-{n}.png"'})
 
@@ -193,50 +193,50 @@ def _render_png(log: dict, size: int, cancel: threading.Event) -> bytes | str:
         return show(str(err), 200)
 
 
-async def _rerender(request: web.Request, server: Server, session: Session, size: int) -> bytes:
-    """Re-render `session`'s log at `size` within the budgets; stopped when its client leaves,
+async def _rerender(request: web.Request, server: Server, conn: Connection, size: int) -> bytes:
+    """Re-render `conn`'s log at `size` within the budgets; stopped when its client leaves,
     the painting closes, the server stops or RERENDER_TIMEOUT_S passes."""
-    frames = session.painting.frames
+    frames = conn.painting.frames
     if frames > RERENDER_MAX_FRAMES:
         raise web.HTTPRequestEntityTooLarge(
             max_size=RERENDER_MAX_FRAMES, actual_size=frames,
             text=f"the painting holds {frames} simulated frames: the server re-renders at most "
                  f"{RERENDER_MAX_FRAMES}; save its log and use `brushwork replay`")
-    if session.rerendering or server.rerenders >= RERENDER_SLOTS:
+    if conn.rerendering or server.rerenders >= RERENDER_SLOTS:
         raise web.HTTPServiceUnavailable(text="a re-render is running: try again when it ends",
                                          headers={"Retry-After": "5"})
-    log = await session.call(session.painting.log)
+    log = await conn.call(conn.painting.log)
     log = {**log, "events": list(log["events"])}
     cancel = threading.Event()
-    session.rerendering, server.rerenders = True, server.rerenders + 1
-    pool = ThreadPoolExecutor(1, thread_name_prefix=f"rerender-{session.id}")
+    conn.rerendering, server.rerenders = True, server.rerenders + 1
+    pool = ThreadPoolExecutor(1, thread_name_prefix=f"rerender-{conn.id}")
     try:
         job = asyncio.get_running_loop().run_in_executor(pool, _render_png, log, size, cancel)
-        result = await _watch(job, cancel, request, server, session)
+        result = await _watch(job, cancel, request, server, conn)
     finally:
         cancel.set()
         pool.shutdown(wait=False)
-        session.rerendering, server.rerenders = False, server.rerenders - 1
+        conn.rerendering, server.rerenders = False, server.rerenders - 1
     if isinstance(result, str):
         raise web.HTTPServiceUnavailable(text=f"re-render stopped: {result}")
     return result
 
 
-async def _watch(job, cancel: threading.Event, request: web.Request, server: Server, session: Session):
+async def _watch(job, cancel: threading.Event, request: web.Request, server: Server, conn: Connection):
     """The result of `job`, or `cancel` set once nobody waits for it any more."""
     deadline = time.monotonic() + RERENDER_TIMEOUT_S
     while not job.done():
         await asyncio.wait([job], timeout=0.2)
         transport = request.transport
         gone = transport is None or transport.is_closing()
-        if gone or session.closed.is_set() or server.stopping.is_set() or time.monotonic() > deadline:
+        if gone or conn.closed.is_set() or server.stopping.is_set() or time.monotonic() > deadline:
             cancel.set()
     return await job
 
 
 async def _log(request: web.Request) -> web.Response:
-    session = request.app[SERVER].find(request)
-    return web.Response(text=await session.call(session.painting.log_json), content_type="application/json",
+    conn = request.app[SERVER].find(request)
+    return web.Response(text=await conn.call(conn.painting.log_json), content_type="application/json",
                         headers={"Content-Disposition": 'attachment; filename="paint-log.json"'})
 
 

@@ -64,7 +64,7 @@ def create_log(folder: str, stamp: str, sid: str) -> str:
     raise OSError(f"{folder}: no free log name for paint-{stamp}-{sid}")
 
 
-class Session:
+class Connection:
     """A painting and the connection that paints it; `call` runs work on the painting's thread."""
 
     def __init__(self, sid: str, ws, log_dir: str | None = None):
@@ -189,7 +189,7 @@ class Session:
         try:
             await self.ws.send_str(json.dumps(msg))
         except (ConnectionError, RuntimeError):
-            pass                           # (the connection is closing: its reader ends the session)
+            pass                           # (the connection is closing: its reader ends it)
 
     async def close(self) -> None:
         """Stop the work in flight, close the connection, write the log and free the painting on
