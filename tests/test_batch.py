@@ -883,9 +883,7 @@ def test_a_stroke_that_starts_on_another_starts_in_its_ink():
     assert joins([bar, hung + [0.0, -2.0]], 1, 5.0) == (False, False)
     assert joins([bar, hung], 0, 5.0) == (False, False)         # the bar's ends are free
     glyph = Glyph("x", 0x78, [Stroke(bar / 100.0, "㇐"), Stroke(hung / 100.0, "㇑")], "test", (0.0, 0.0, 1.0, 1.0))
-    # (on the seed's p_i, brush {}, whose entry stays inside the median's start: kai's own brush
-    # lands wide enough to touch the bar without the join's reach)
-    kai = replace(Style.load("kai"), brush={})
+    kai = Style.load("kai")
     assert kai.join_reach_em is not None and kai.join_reach_em > (kai.start_reach_em or 0.0)
     ink = {r: render_glyph(glyph, 256, replace(kai, join_reach_em=r)).ink() > 0.5 for r in (None, kai.join_reach_em)}
     one = np.ones((256, 256), bool)

@@ -92,6 +92,7 @@ struct SweepInput {
   std::vector<double> AP, AM, CC;
   std::vector<double> H;              // (S-1) mm, chord |O_i+1 - O_i| (at least kMinChord)
   std::vector<double> MAP, MAM, MCC;  // (S) slopes d(radius)/d(arc) of a+, a-, c at the centres
+  double round = 0.0;                 // [0, 1]: how far the tip segment's radii are rounded (pressed_tip_round)
 };
 
 // mm, a chord between two section centres shorter than this is taken as this long (the radii's
@@ -151,6 +152,25 @@ void check_options(std::size_t S, const MeshOptions& opt) {
   if (rings_ll * opt.around + 2 > kMaxMeshVertices) throw std::invalid_argument("sweep_surface: mesh too large");
 }
 
+// the flattening of the section above the tip (mean major radius / minor) from which its
+// segment starts to round, and over which it rounds fully; a brush pressed 0.2 L flattens it
+// ~1.4, 0.5 L ~6 (small brush)
+constexpr double kRoundFromFlat = 1.2, kRoundSpan = 0.8;
+
+// A tuft pressed onto the paper flattens its sections (mean major radius over the minor one
+// well above 1) and its tip hairs fan out: the segment nearest the tip, straight while only the
+// tip touches (see monotone_slopes), then closes round, a quarter ellipse from the section above
+// (flat there) to the tip section, instead of a cone whose footprint is a pointed wedge (the
+// arrowhead at every pressed entry).  Returns how far: 0 up to a flattening of
+// kRoundFromFlat, 1 from kRoundFromFlat + kRoundSpan on
+double pressed_tip_round(const SweepInput& in) {
+  const std::size_t S = in.CC.size();
+  if (S < 3) return 0.0;
+  const std::size_t k = S - 2;
+  const double flat = 0.5 * (in.AP[k] + in.AM[k]) / std::max(in.CC[k], kMinChord);
+  return std::clamp((flat - kRoundFromFlat) / kRoundSpan, 0.0, 1.0);
+}
+
 SweepInput checked_sections(const std::vector<Section>& sections) {
   const std::size_t S = sections.size();
   SweepInput in;
@@ -182,6 +202,7 @@ SweepInput checked_sections(const std::vector<Section>& sections) {
   in.MAP = monotone_slopes(in.AP, in.H);
   in.MAM = monotone_slopes(in.AM, in.H);
   in.MCC = monotone_slopes(in.CC, in.H);
+  in.round = pressed_tip_round(in);
   return in;
 }
 
@@ -231,8 +252,16 @@ Ring sweep_ring(const SweepInput& in, int i0, double s, bool first, Vec3& prev_u
   // the apex
   const double h = in.H[i0];
   const double h00 = 2 * s3 - 3 * s2 + 1, h10 = s3 - 2 * s2 + s, h01 = -2 * s3 + 3 * s2, h11 = s3 - s2;
+  const int S = static_cast<int>(in.C.size());
+  const double lam = in.round;
   auto radius = [&](const std::vector<double>& r, const std::vector<double>& m) {
-    return h00 * r[i0] + h10 * h * m[i0] + h01 * r[i1] + h11 * h * m[i1];
+    // the segment above the tip ends on the rounded tip segment's start slope (C1)
+    const double m1 = (i1 == S - 2) ? (1.0 - lam) * m[i1] : m[i1];
+    const double cubic = h00 * r[i0] + h10 * h * m[i0] + h01 * r[i1] + h11 * h * m1;
+    if (i1 != S - 1 || lam <= 0.0 || r[i0] <= r[i1]) return cubic;
+    // the tip segment: blended toward the quarter ellipse, flat at O_S-2, through r at O_S-1
+    const double ell = std::sqrt(r[i0] * r[i0] - s2 * (r[i0] * r[i0] - r[i1] * r[i1]));
+    return (1.0 - lam) * cubic + lam * ell;
   };
   ring.ap = radius(in.AP, in.MAP);
   ring.am = radius(in.AM, in.MAM);
@@ -348,7 +377,8 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   // root cap at O_0 and the pointed tip apex beyond the last section
   mesh.vertices.row(root_cap) = in.C[0].transpose();
   mesh.uv.row(root_cap) << 0.0, 0.5;
-  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1]));
+  // (a rounded tip segment ends on a blunt apex: its cone flattened as far as it is rounded)
+  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1])) * (1.0 - 0.8 * in.round);
   mesh.vertices.row(apex) = (in.C[S - 1] + in.N[S - 1] * tip_len).transpose();
   mesh.uv.row(apex) << 1.0, 0.5;
   put_faces(mesh, NR, A, root_cap, apex);
