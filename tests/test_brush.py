@@ -203,6 +203,31 @@ def _pressed(model, tilt, depth, drag_frames=0, frames=40, hold=5):
     return b, np.array(rec[-10:] if drag_frames else rec[-1:])
 
 
+def _sharpest_turn_deg(loop: np.ndarray, chord_mm: float) -> float:
+    """The largest turn (deg) of a closed loop between its chords chord_mm back and ahead."""
+    closed = np.vstack([loop, loop[:1]])
+    arc = np.r_[0.0, np.cumsum(np.hypot(*np.diff(closed, axis=0).T))]
+    s = np.arange(0.0, arc[-1], chord_mm / 8)
+    q = np.stack([np.interp(s, arc, closed[:, 0]), np.interp(s, arc, closed[:, 1])], axis=1)
+    back, ahead = np.roll(q, 8, axis=0) - q, np.roll(q, -8, axis=0) - q
+    cos = (back * ahead).sum(axis=1) / np.maximum(np.hypot(*back.T) * np.hypot(*ahead.T), 1e-12)
+    return 180.0 - math.degrees(math.acos(min(1.0, cos.max())))
+
+
+@pytest.mark.parametrize("depth,drag", [(0.15, 0), (0.15, 10), (0.3, 0), (0.3, 10)])
+def test_a_pressed_tip_leaves_a_round_end(depth, drag):
+    """Pressed onto the paper (held, or dragged with the tip trailing) the tuft's footprint
+    closes round at the tip: no turn of its outline sharper than 35 deg within +-0.4 mm (8 px of
+    a 2048 px character), where a cone of a tip leaves a wedge (over 50 deg), the arrowhead of a
+    pressed entry. Touching with the tip alone it stays pointed (over 60 deg)."""
+    m = bw.BrushModel.preset("small")
+    m.spread_reach = 1
+    b, _ = _pressed(m, 15.0, depth, drag_frames=drag)
+    assert _sharpest_turn_deg(max(b.footprint(), key=len), 0.4) < 35.0
+    b, _ = _pressed(m, 15.0, 0.05, drag_frames=drag)
+    assert _sharpest_turn_deg(max(b.footprint(), key=len), 0.4) > 60.0
+
+
 @pytest.mark.parametrize("tilt", [0.0, 15.0])
 def test_footprint_grows_with_press_depth(tilt):
     # a real brush lays its belly down as it is pressed: from the tip alone to a stroke wider
