@@ -683,7 +683,9 @@ class _LeavesOnPress:
     def footprint(self):
         if self.off_from is not None and len(self.poses) >= self.off_from:
             return []
-        return [[(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)]] if self.poses[-1].position[2] < self.z_leave else []
+        # a footprint as wide as the stroke (one narrower than half of it near the end is a belly
+        # that has sprung off the paper, and ends the travel)
+        return [[(0.0, 0.0), (6.0, 0.0), (0.0, 6.0)]] if self.poses[-1].position[2] < self.z_leave else []
 
     def skeleton(self):
         return np.zeros((7, 3))
@@ -712,6 +714,42 @@ def test_the_lift_goes_straight_up_once_the_brush_has_left(leave_at, off_at_trav
     assert len(exit_z) == exit_steps
     assert exit_z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
     assert np.all(np.diff(exit_z) > 0.0)        # always up
+
+
+class _SpringsOff(_LeavesOnPress):
+    """Touches with a stroke-wide footprint, on steps `sliver_from` and the next with a sliver
+    (0.5 mm): a bent tuft whose belly sprang off the paper."""
+
+    def __init__(self, model, tilt, sliver_from):
+        super().__init__(model, tilt, -0.05)
+        self.sliver_from = sliver_from
+
+    def footprint(self):
+        if self.poses[-1].position[2] >= self.z_leave:
+            return []
+        r = 0.5 if self.sliver_from <= len(self.poses) <= self.sliver_from + 1 else 6.0
+        return [[(0.0, 0.0), (r, 0.0), (0.0, r)]]
+
+
+@pytest.mark.parametrize("frac, ends_early", [(0.9, True), (0.5, False)])
+def test_a_footprint_that_collapses_near_the_end_ends_the_stroke(frac, ends_early):
+    """Past taper_from of a stroke, a footprint narrower than taper_collapse of the aimed width
+    ends the travel there and the brush goes straight up (pressed on, the tip came down again
+    and swelled into a bead after the neck). Earlier in the stroke the travel goes on."""
+    kai = replace(Style.load("kai"), jitter=0.0)
+    pts = np.array([[10.0, 50.0], [30.0, 50.0]])
+    travel = len(_resample(pts, kai.step_mm)[0])
+    start = kai.air_frames + kai.entry_frames
+    sliver_from = start + int(frac * travel)
+    writer = Writer(_Paper(), kai)
+    writer.brush = _SpringsOff(writer.shape, kai.tilt_deg, sliver_from)
+    writer.write_stroke(pts, "㇐")
+    poses = writer.brush.poses
+    if ends_early:
+        assert len(poses) == sliver_from + 1                 # the collapsed frame, then one lift
+        assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+    else:
+        assert len(poses) > start + travel                    # the travel went on to its end
 
 
 @pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])

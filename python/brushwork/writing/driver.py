@@ -76,6 +76,7 @@ class Writer:
         self.rehearsed = 0                # solver steps spent rehearsing
         self.root = np.zeros(2)           # mm: the root's xy on the last frame
         self.log = _Log()                 # the last travel along a centreline, frame by frame
+        self.sprung = False               # the last travel ended where the footprint collapsed (_collapsed)
 
     def _solve(self, pose: Pose):
         """One brush step, tallied in self.solver; returns the core's StepStats."""
@@ -248,6 +249,7 @@ class Writer:
         self.log; returns the index of its last frame."""
         st, width = self.style, aim.width
         self.log = _Log()
+        self.sprung = False
         for j in range(len(aim.path) if plan is None else len(plan.press)):
             pj = aim.target(self, j)
             if plan is None:
@@ -268,7 +270,18 @@ class Writer:
             self.log.add(self.root, eased, pj, heading[j], self.contact)
             if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
                 break
+            if aim.ending_at(j) and self._collapsed(heading[j], width[j]):
+                self.sprung = True
+                break
         return j
+
+    def _collapsed(self, heading: float, width: float) -> bool:
+        """The footprint has shrunk to under taper_collapse of the aimed width: a bent tuft whose
+        belly has sprung off the paper near a stroke's end. Pressing on (the width loop would,
+        and a tip that came down again swelled into a bead after the neck) is not what a hand
+        does there: the stroke ends."""
+        seen = _centroid_and_width(self.contact, heading)
+        return seen is not None and seen[1] < self.style.taper_collapse * width
 
     def _follow(self, target: np.ndarray, heading: float) -> None:
         """On a replayed plan: what the loops would have learned, the footprint's reach and the
@@ -299,7 +312,7 @@ class Writer:
         # springing back as the root rose slowly swung its tip down onto the paper again, a dot
         # past the stroke's end
         for j in range(st.exit_frames):
-            if tapering or not self.touching:
+            if tapering or self.sprung or not self.touching:
                 self._step(end - back, h, -st.hover, st.tilt_deg)
                 break
             t = (j + 1) / st.exit_frames
@@ -385,6 +398,10 @@ class _Aim:
         sj = 0.5 * (lo + hi) if lo > hi else float(_clip(self.s[j], lo, hi))
         sj = float(_clip(sj, 0.0, self.length))
         return np.array([np.interp(sj, self.s, self.path[:, 0]), np.interp(sj, self.s, self.path[:, 1])])
+
+    def ending_at(self, j: int) -> bool:
+        """Past taper_from along the median (any stroke's last stretch)."""
+        return self.st.taper_from is not None and self.s[j] > self.st.taper_from * self.length
 
     def tapers_at(self, j: int) -> bool:
         """Past taper_from along the median, where the profile thins toward the next point."""
