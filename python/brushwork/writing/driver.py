@@ -230,6 +230,9 @@ class Writer:
         st = self.style
         self.behind = self.ahead = 0.5 * aim.width[0]
         c, sn = math.cos(h0), math.sin(h0)
+        # the tip lands on the stroke's start; a start on another stroke, join_reach before it,
+        # in that stroke's ink
+        land = aim.path[0] - max(aim.joined_reach(), 0.0) * np.array([c, sn])
         for j in range(-st.air_frames, st.entry_frames):
             # first `air_frames` frames hovering, the tip swung over the start before it touches
             # (a descent still being aimed lays ink on its way in), then pressing down
@@ -238,7 +241,7 @@ class Writer:
             self._step(p0, h0, -st.hover + (self.press + st.hover) * t, st.tilt_deg)
             if not self.contact:
                 tip = np.asarray(self.brush.skeleton()[-1][:2])
-                err = aim.path[0] - tip
+                err = land - tip
                 self.offset_local += np.array([c * err[0] + sn * err[1], -sn * err[0] + c * err[1]])
             else:
                 self._observe(p0, h0, aim.width[0] if t >= 1.0 else None)
@@ -377,6 +380,7 @@ class _Aim:
     def __init__(self, st: Style, path: np.ndarray, s: np.ndarray, width: np.ndarray,
                  joined: tuple = (False, False)):
         self.st, self.path, self.s, self.width = st, path, s, width
+        self.joined = joined
         self.length = max(s[-1], 1e-6)
         self.start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
         self.end_reach = st.end_reach_em
@@ -386,6 +390,11 @@ class _Aim:
                 self.start_reach = max(self.start_reach if self.start_reach is not None else -1.0, st.join_reach_em)
             if joined[1]:
                 self.end_reach = max(self.end_reach if self.end_reach is not None else -1.0, st.join_reach_em)
+
+    def joined_reach(self) -> float:
+        """mm a start on another stroke reaches into it (join_reach_em), 0 for a free start."""
+        st = self.st
+        return st.join_reach_em * st.em_mm if self.joined[0] and st.join_reach_em is not None else 0.0
 
     def _reach(self, r_em: float | None, j: int) -> float:
         return 0.5 * self.width[j] if r_em is None else r_em * self.st.em_mm
