@@ -660,3 +660,15 @@ def test_the_load_benchmark_keeps_each_page_to_its_band():
     assert r["flood_ping_ms"]["n"] > 0 and r["rerender_ping_ms"]["n"] > 0
     assert r["refused_rerender"]["status"] == 400 and r["rerender"]["status"] == 200
     assert r["exit_code"] is not None and "SIGTERM" in table(r)
+
+
+def test_the_latency_benchmark_measures_its_painting():
+    """`bench paint` on a short stroke: every sample is answered, with ink, and the painting it
+    reads the simulated frames from is the connection's own (frames counted, none left over from the
+    warm-up stroke). Its timings are the bench's to report, not asserted here."""
+    from brushwork.paint.bench import run, table
+
+    r = run(n=8, tufts=(1,))
+    assert r["samples"] == 8 and r["inked_samples"] == 8, r
+    assert r["frames"] > 0 and r["frames"] < 8 * 50, r
+    assert "1 tuft at most" in table(r)

@@ -55,7 +55,7 @@ async def _measure(n: int, progress, tufts: int = 1) -> dict:
         for seq, kind in enumerate(("up", "undo"), start=n + 21):
             await ws.send_str(json.dumps({"type": kind, "seq": seq}))
             await _answer(ws, seq)
-        painting = next(iter(app[SERVER].sessions.values())).painting
+        painting = next(iter(app[SERVER].connections.values())).painting
         painting.frames, painting.sim_s, painting.split_frames = 0, 0.0, 0
         progress(f"{n} samples, one at a time, on a {hello['width']} x {hello['height']} px paper")
         for seq, s in enumerate(stroke(n, hello["width"], hello["height"])):
