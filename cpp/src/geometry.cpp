@@ -156,6 +156,8 @@ void check_options(std::size_t S, const MeshOptions& opt) {
 // segment starts to round, and over which it rounds fully; a brush pressed 0.2 L flattens it
 // ~1.4, 0.5 L ~6 (small brush)
 constexpr double kRoundFromFlat = 1.2, kRoundSpan = 0.8;
+// how much of the apex cone's length a fully rounded tip segment gives up (a blunt apex)
+constexpr double kRoundedApexCut = 0.8;
 
 // A tuft pressed onto the paper flattens its sections (mean major radius over the minor one
 // well above 1) and its tip hairs fan out: the segment nearest the tip, straight while only the
@@ -378,7 +380,7 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
   mesh.vertices.row(root_cap) = in.C[0].transpose();
   mesh.uv.row(root_cap) << 0.0, 0.5;
   // (a rounded tip segment ends on a blunt apex: its cone flattened as far as it is rounded)
-  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1])) * (1.0 - 0.8 * in.round);
+  const double tip_len = 0.5 * std::max(in.CC[S - 1], 0.5 * (in.AP[S - 1] + in.AM[S - 1])) * (1.0 - kRoundedApexCut * in.round);
   mesh.vertices.row(apex) = (in.C[S - 1] + in.N[S - 1] * tip_len).transpose();
   mesh.uv.row(apex) << 1.0, 0.5;
   put_faces(mesh, NR, A, root_cap, apex);

@@ -299,8 +299,7 @@ class Writer:
     def _taper_ends(self, eased: float, heading: float, width: float) -> bool:
         """On a tapering exit the press only eases; True once the belly has left the paper."""
         self.press = min(self.press, eased)
-        seen = _centroid_and_width(self.contact, heading)
-        return seen is None or seen[1] < self.style.taper_collapse * width
+        return not self.contact or self._collapsed(heading, width)
 
     def _lift(self, end: np.ndarray, h: float, tapering: bool) -> None:
         """Lift while drawing the root back over the footprint (回锋, returning the tip), so the
@@ -415,7 +414,7 @@ class _Aim:
     def tapers_at(self, j: int) -> bool:
         """Past taper_from along the median, where the profile thins toward the next point."""
         w = self.width
-        return self.s[j] > self.st.taper_from * self.length and j + 1 < len(self.path) and w[j + 1] < w[j]
+        return self.ending_at(j) and j + 1 < len(self.path) and w[j + 1] < w[j]
 
 
 def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
