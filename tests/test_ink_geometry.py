@@ -104,6 +104,22 @@ def test_the_swept_footprint_is_the_continuous_sweep(move):
     assert np.count_nonzero(a & ~r) <= 0.01 * np.count_nonzero(r), (k, np.count_nonzero(a & ~r))
 
 
+def test_a_long_move_wets_each_slid_copy_of_the_footprint_once():
+    """The wetted paper a deposit spends ink on is its footprint slid back along the move, 64
+    copies at most: after a jump of 900 mm every copy lies apart, so the paper gains 64
+    footprints' area, whether the move runs along the rows of cells (gathered together) or
+    across them (too many rows: raised a copy at a time)."""
+    gains = []
+    for dx, dy in ((900.0, 0.0), (0.0, 900.0)):
+        b, z1 = pressed_brush()
+        b.load_ink(total_mm2=1e6)
+        paper = VectorPaper(60, 40, 10, scene=bw.Scene(depletion=True))
+        first = paper.deposit(b).deposited
+        b.step(bw.Pose((20.0 + dx, 20.0 + dy, z1), 15, 0))
+        gains.append(paper.deposit(b).deposited / first)
+    assert gains[0] == pytest.approx(64.0, rel=0.015) and gains[1] == pytest.approx(gains[0], rel=1e-3), gains
+
+
 def write_stroke(paper):
     b, z1 = pressed_brush()
     for k in range(25):

@@ -3,12 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace brushwork {
 
 namespace {
 
-constexpr int kMaxCopies = 64;  // most slid copies of a footprint in one deposit
+constexpr int kMaxCopies = 64;      // most slid copies of a footprint in one deposit
+constexpr double kMaxRows = 8192;  // most rows of cells one deposit's copies are gathered in (819 mm)
 
 std::int64_t block_key(int bx, int by) {
   return (static_cast<std::int64_t>(bx) << 32) ^ static_cast<std::uint32_t>(by);
@@ -42,7 +44,7 @@ double WetArea::raise_run(int cy, double xa, double xb, float density) {
   return gain;
 }
 
-double WetArea::fill(const Loops& loops, const Eigen::Vector2d& offset, float density) {
+void WetArea::collect(const Loops& loops, const Eigen::Vector2d& offset) {
   // each edge's crossings with the rows of cell centres, y = (cy + 1/2) cell, it spans, as (cy, x mm)
   hits_.clear();
   for (const auto& l : loops)
@@ -56,14 +58,37 @@ double WetArea::fill(const Loops& loops, const Eigen::Vector2d& offset, float de
       }
     }
   std::sort(hits_.begin(), hits_.end());
-  // row by row, inside between crossings 0-1, 2-3, ...: the cells whose centres lie there
-  double gain = 0.0;
+  // row by row, inside between crossings 0-1, 2-3, ...
   for (std::size_t a = 0; a < hits_.size();) {
     std::size_t b = a;
     while (b < hits_.size() && hits_[b].first == hits_[a].first) ++b;
-    for (std::size_t k = a; k + 1 < b; k += 2)
-      gain += raise_run(hits_[a].first, hits_[k].second, hits_[k + 1].second, density);
+    auto& row = rows_[static_cast<std::size_t>(hits_[a].first - row0_)];
+    for (std::size_t k = a; k + 1 < b; k += 2) row.emplace_back(hits_[k].second, hits_[k + 1].second);
     a = b;
+  }
+}
+
+void WetArea::start_rows(double y_lo, double y_hi) {
+  row0_ = static_cast<int>(std::floor(y_lo / cell_ - 0.5)) - 1;
+  const int row1 = static_cast<int>(std::ceil(y_hi / cell_ + 0.5)) + 1;
+  rows_.resize(static_cast<std::size_t>(row1 - row0_ + 1));
+}
+
+double WetArea::raise_rows(float density) {
+  // runs of one row that overlap or touch hold their cells together: merged, each cell is
+  // raised once (a cell's gain is the same however often the same density reaches it)
+  double gain = 0.0;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    auto& runs = rows_[k];
+    std::sort(runs.begin(), runs.end());
+    for (std::size_t a = 0; a < runs.size();) {
+      auto [xa, xb] = runs[a];
+      std::size_t b = a + 1;
+      for (; b < runs.size() && runs[b].first <= xb; ++b) xb = std::max(xb, runs[b].second);
+      gain += raise_run(row0_ + static_cast<int>(k), xa, xb, density);
+      a = b;
+    }
+    runs.clear();
   }
   return gain;
 }
@@ -74,12 +99,30 @@ double WetArea::add(const Loops& loops, const Loops& last, const Eigen::Vector2d
   // copies at most a cell apart along the move, from both ends (the last deposit's own place
   // was wetted then)
   const int copies = std::clamp(static_cast<int>(std::ceil(shift.norm() / cell_)), 1, kMaxCopies);
+  // the rows the copies reach: the loops' span in y, widened by the move
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Loops* set : {&loops, &last})
+    for (const auto& l : *set)
+      if (l.rows() > 0) {
+        lo = std::min(lo, l.col(1).minCoeff());
+        hi = std::max(hi, l.col(1).maxCoeff());
+      }
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(shift.y())) return 0.0;
+  const double reach = std::abs(shift.y());
+  // a move too long for one set of rows (a jump across the paper) is raised a copy at a time
+  const bool together = (hi - lo + 2.0 * reach) / cell_ < kMaxRows;
+  if (together) start_rows(lo - reach, hi + reach);
   double gain = 0.0;
   for (int j = 0; j < copies; ++j) {
     const double t = static_cast<double>(j) / copies;
-    gain += fill(loops, -shift * t, d);
-    if (j > 0 && !last.empty()) gain += fill(last, shift * t, d);
+    for (const auto& [set, offset] : {std::pair{&loops, Eigen::Vector2d(-shift * t)}, std::pair{&last, Eigen::Vector2d(shift * t)}}) {
+      if (set->empty() || (set == &last && j == 0)) continue;
+      if (!together) start_rows(lo + offset.y(), hi + offset.y());
+      collect(*set, offset);
+      if (!together) gain += raise_rows(d);
+    }
   }
+  if (together) gain += raise_rows(d);
   return gain * cell_ * cell_;
 }
 

@@ -30,14 +30,22 @@ class WetArea {
  private:
   static constexpr int kBlock = 64;  // cells on a side of one lazily allocated block
 
-  // the cells whose centres lie inside `loops` moved by `offset` (even-odd rule), raised to
-  // `density`; the gain in cell units
-  double fill(const Loops& loops, const Eigen::Vector2d& offset, float density);
+  // rows_ emptied and spanning the rows of cell centres from y_lo to y_hi mm
+  void start_rows(double y_lo, double y_hi);
+  // the runs of cells whose centres lie inside `loops` moved by `offset` (even-odd rule),
+  // appended to their rows in rows_ (row cy at rows_[cy - row0_])
+  void collect(const Loops& loops, const Eigen::Vector2d& offset);
+  // the cells of rows_ raised to `density`, each once however many runs hold it; rows_ emptied;
+  // the gain in cell units
+  double raise_rows(float density);
   double raise_run(int cy, double xa, double xb, float density);  // a run of one row; its gain
 
   double cell_;
   std::unordered_map<std::int64_t, std::vector<float>> blocks_;  // (kBlock, kBlock) densities each
-  std::vector<std::pair<int, double>> hits_;  // scratch: the loops' crossings (row, x mm)
+  std::vector<std::pair<int, double>> hits_;  // scratch: one loop set's crossings (row, x mm)
+  // scratch: the runs [xa, xb) mm of every copy of one deposit, row by row from row row0_
+  std::vector<std::vector<std::pair<double, double>>> rows_;
+  int row0_ = 0;
 };
 
 // What each tuft of a brush gave the paper in a stroke: the wetted cells and each tuft's
