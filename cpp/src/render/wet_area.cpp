@@ -18,6 +18,18 @@ std::int64_t block_key(int bx, int by) {
 
 int floor_div(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
+// (lowest, highest) y of the vertices of two sets of loops (mm; inf, -inf when they have none)
+std::pair<double, double> y_span(const Loops& a, const Loops& b) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Loops* set : {&a, &b})
+    for (const auto& l : *set)
+      if (l.rows() > 0) {
+        lo = std::min(lo, l.col(1).minCoeff());
+        hi = std::max(hi, l.col(1).maxCoeff());
+      }
+  return {lo, hi};
+}
+
 }  // namespace
 
 void WetArea::clear() { blocks_.clear(); }
@@ -100,13 +112,7 @@ double WetArea::add(const Loops& loops, const Loops& last, const Eigen::Vector2d
   // was wetted then)
   const int copies = std::clamp(static_cast<int>(std::ceil(shift.norm() / cell_)), 1, kMaxCopies);
   // the rows the copies reach: the loops' span in y, widened by the move
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-  for (const Loops* set : {&loops, &last})
-    for (const auto& l : *set)
-      if (l.rows() > 0) {
-        lo = std::min(lo, l.col(1).minCoeff());
-        hi = std::max(hi, l.col(1).maxCoeff());
-      }
+  const auto [lo, hi] = y_span(loops, last);
   if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(shift.y())) return 0.0;
   const double reach = std::abs(shift.y());
   // a move too long for one set of rows (a jump across the paper) is raised a copy at a time
@@ -115,7 +121,8 @@ double WetArea::add(const Loops& loops, const Loops& last, const Eigen::Vector2d
   double gain = 0.0;
   for (int j = 0; j < copies; ++j) {
     const double t = static_cast<double>(j) / copies;
-    for (const auto& [set, offset] : {std::pair{&loops, Eigen::Vector2d(-shift * t)}, std::pair{&last, Eigen::Vector2d(shift * t)}}) {
+    const auto slid = {std::pair{&loops, Eigen::Vector2d(-shift * t)}, std::pair{&last, Eigen::Vector2d(shift * t)}};
+    for (const auto& [set, offset] : slid) {
       if (set->empty() || (set == &last && j == 0)) continue;
       if (!together) start_rows(lo + offset.y(), hi + offset.y());
       collect(*set, offset);
