@@ -752,6 +752,59 @@ def test_a_footprint_that_collapses_near_the_end_ends_the_stroke(frac, ends_earl
         assert len(poses) > start + travel                    # the travel went on to its end
 
 
+class _Vanishes(_LeavesOnPress):
+    """Touches with a stroke-wide footprint, but leaves none on steps gone_from .. gone_from + 4
+    however deep it is pressed: a tuft that sprang off the paper."""
+
+    def __init__(self, model, tilt, gone_from):
+        super().__init__(model, tilt, -0.05)
+        self.gone_from = gone_from
+
+    def footprint(self):
+        if self.poses[-1].position[2] >= self.z_leave or self.gone_from <= len(self.poses) <= self.gone_from + 4:
+            return []
+        return [[(0.0, 0.0), (6.0, 0.0), (0.0, 6.0)]]
+
+
+def test_a_brush_that_leaves_the_paper_near_the_end_ends_the_stroke():
+    """Past taper_from, a brush that stays off the paper however it is pressed (HOLD_FRAMES
+    re-steps) ends the travel there and goes straight up: travelling on, it came down again, a
+    dot after a gap."""
+    from brushwork.writing.driver import HOLD_FRAMES
+
+    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
+    pts = np.array([[10.0, 50.0], [30.0, 50.0]])
+    gone_from = kai.air_frames + kai.entry_frames + int(0.9 * len(_resample(pts, kai.step_mm)[0]))
+    writer = Writer(_Paper(), kai)
+    writer.brush = _Vanishes(writer.shape, kai.tilt_deg, gone_from)
+    writer.press = 0.2
+    writer.write_stroke(pts, "㇐")
+    poses = writer.brush.poses
+    assert writer.holds == HOLD_FRAMES and len(poses) == gone_from + HOLD_FRAMES + 1
+    assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+
+
+def test_a_footprint_that_collapses_mid_travel_is_pressed_again():
+    """Before taper_from, a footprint that shrinks within a frame to under taper_collapse of its
+    width (a belly springing off as the travel turns back on itself, the corner of a 竖提) is
+    pressed PRESS_ON deeper and stepped again until it spreads, as a brush that floats off is:
+    no sliver is laid, so no neck between the stroke and its flick. With taper_collapse 0 the
+    sliver is laid."""
+    kai = replace(Style.load("kai"), jitter=0.0)
+    pts = np.array([[10.0, 50.0], [30.0, 50.0]])
+    sliver_from = kai.air_frames + kai.entry_frames + len(_resample(pts, kai.step_mm)[0]) // 2
+    for collapse, held in ((kai.taper_collapse, True), (0.0, False)):
+        writer = Writer(_Paper(), replace(kai, taper_collapse=collapse))
+        writer.brush = _SpringsOff(writer.shape, kai.tilt_deg, sliver_from)
+        writer.write_stroke(pts, "㇐")
+        z = [p.position[2] for p in writer.brush.poses[sliver_from - 1:sliver_from + 2]]
+        if held:
+            # the sliver's step and its first re-step (the fake's sliver lasts two steps), each deeper
+            assert writer.holds == 2 and 0.5 not in writer.widths and z[0] > z[1] > z[2]
+        else:
+            assert writer.holds == 0 and writer.widths.count(0.5) == 2
+
+
 @pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])
 def test_root_height_puts_the_straight_tip_press_below_first_contact(tilt):
     """root_height(model, tilt, press): above the paper (press < 0) the straight tuft's tip hangs

@@ -310,7 +310,8 @@ def table(result: dict) -> str:
              f"{len(result['chars_with_extra_pieces'])} of {result['characters']} characters "
              f"({''.join(result['chars_with_extra_pieces'][:20])}); {result['specks']} specks; "
              f"{result['broken_strokes']} strokes broken (the brush down again after a lift within one stroke); "
-             f"{result['held_frames']} of {result['frames']} frames re-stepped deeper (a pressing brush had floated off the paper)",
+             f"{result['held_frames']} of {result['frames']} frames re-stepped deeper (a pressing brush had floated off "
+             "the paper or its footprint collapsed)",
              f"{result['chars_per_s']:.2f} characters/s with {result['jobs']} job(s)"]
     if result.get("sheet"):
         lines.append(f"contact sheet: {result['sheet']}")

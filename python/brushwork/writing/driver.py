@@ -62,10 +62,11 @@ class Writer:
         self.touching = False             # the last deposit touched the paper
         self.touched_in_stroke = False    # a deposit of this stroke touched it
         self.breaks = 0                   # strokes broken: down again after a lift within one stroke
-        self.holds = 0                    # frames re-stepped deeper because a pressing brush floated off the paper
+        self.holds = 0                    # frames re-stepped deeper (a pressing brush floated off, a footprint collapsed)
         self.contact = []                 # the brush's contact polygon after the last frame (Brush.footprint)
         self.density = 1.0                # width factor of the character being written (density_gain)
         self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
+        self.last_width = None            # mm: the footprint's width on the last frame (None: not touching)
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
         # the solver over every frame written: steps, steps whose solve stopped at the iteration
         # cap q_max unconverged (a split frame's iterations add up over its sub-steps, so a
@@ -109,11 +110,13 @@ class Writer:
         stats = self._solve(pose)
         self.contact = self.brush.footprint()   # the contact polygon, once a frame (~20 µs)
         # a pressing brush that leaves the paper in the travel of a stroke (a bent, plastically set
-        # tuft whose tip curls up under a light press: a true equilibrium) is pressed PRESS_ON
-        # deeper and stepped again, up to HOLD_FRAMES times, as a hand feels the brush lift, rather
-        # than lay a gap in the stroke
+        # tuft whose tip curls up under a light press: a true equilibrium), or whose footprint
+        # shrinks within a frame to under taper_collapse of its width (its belly springs off as
+        # the travel turns back on itself, at the corner of a 竖提), is pressed PRESS_ON deeper
+        # and stepped again, up to HOLD_FRAMES times, as a hand feels the brush lift, rather than
+        # lay a gap or a neck in the stroke
         for _ in range(HOLD_FRAMES):
-            if not (keep_down and self.touching and press > 0.0 and not self.contact):
+            if not (keep_down and self.touching and press > 0.0 and self._slipped(heading)):
                 break
             press = min(press + PRESS_ON, PRESS_MAX)
             pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
@@ -121,10 +124,11 @@ class Writer:
             self.contact = self.brush.footprint()
             self.frames += 1
             self.holds += 1
+        seen = _centroid_and_width(self.contact, heading)
+        self.last_width = None if seen is None else seen[1]
         if self.planning:                   # a rehearsal: the paper is left alone
             self.touching = self.touched_in_stroke = bool(self.contact)
             return
-        seen = _centroid_and_width(self.contact, heading)
         if seen is not None or self.widths:              # from the first touch on
             self.widths.append(0.0 if seen is None else seen[1])
         dep = self.paper.deposit(self.brush)
@@ -135,6 +139,14 @@ class Writer:
         self.touching = bool(self.contact)
         self.touched_in_stroke = self.touched_in_stroke or self.touching
         self.frames += 1
+
+    def _slipped(self, heading: float) -> bool:
+        """The brush has left the paper, or its footprint has shrunk to under taper_collapse of
+        its width on the last frame."""
+        seen = _centroid_and_width(self.contact, heading)
+        if seen is None:
+            return True
+        return self.last_width is not None and seen[1] < self.style.taper_collapse * self.last_width
 
     def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
         seen = _centroid_and_width(self.contact, heading)
@@ -165,6 +177,7 @@ class Writer:
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
         self.widths = []
+        self.last_width = None
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
         aim = _Aim(st, path, s, width, joined)
@@ -186,7 +199,7 @@ class Writer:
 
     # what a rehearsal must put back: the brush's state and the writer's own
     _REHEARSED = ("press", "offset_local", "behind", "ahead", "touching", "touched_in_stroke", "frames", "holds",
-                  "breaks", "widths", "contact", "root")
+                  "last_width", "breaks", "widths", "contact", "root")
 
     def _plan(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool) -> "_Plan":
         """Iterative learning control of one stroke: rehearse it (the brush's state kept and put
@@ -279,12 +292,12 @@ class Writer:
         return j
 
     def _collapsed(self, heading: float, width: float) -> bool:
-        """The footprint has shrunk to under taper_collapse of the aimed width: a bent tuft whose
-        belly has sprung off the paper near a stroke's end. Pressing on (the width loop would,
+        """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent
+        tuft whose belly has sprung off the paper near a stroke's end. Pressing on (the width loop would,
         and a tip that came down again swelled into a bead after the neck) is not what a hand
         does there: the stroke ends."""
         seen = _centroid_and_width(self.contact, heading)
-        return seen is not None and seen[1] < self.style.taper_collapse * width
+        return seen is None or seen[1] < self.style.taper_collapse * width
 
     def _follow(self, target: np.ndarray, heading: float) -> None:
         """On a replayed plan: what the loops would have learned, the footprint's reach and the

@@ -97,7 +97,8 @@ FIELDS: tuple[StyleField, ...] = (
     _F("taper_from", "float?", "median", 0.0, 1.0, None,
        "出锋 exits (撇, 提, 捺, hooks): from this fraction of the median on the press only eases (null: off)"),
     _F("taper_collapse", "float", "width", 0.0, 1.0, 0.5,
-       "... and the travel ends once the footprint is narrower than this fraction of the width"),
+       "... and the travel ends once the footprint is narrower than this fraction of the width "
+       "(earlier, a footprint shrinking under this fraction of its last width is pressed again)"),
     _F("plan_passes", "int", "passes", 0, 8, 0,
        "rehearsals of each stroke replaying a corrected plan of poses (0: the frame-by-frame loops alone)"),
     _F("plan_sigma_mm", "float", "mm", 0.0, 50.0, 3.0, "Gaussian along the stroke that low-passes the plan"),
