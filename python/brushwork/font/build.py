@@ -183,13 +183,47 @@ def _charstring(rec, width: int, specialize: bool = True):
     return pen.getCharString(optimize=specialize)
 
 
+def _grid_pen(out):
+    """A pen that passes its segments on to `out` with their points rounded to whole font units,
+    leaving out any that the rounding collapses onto the point it starts from (glyf stores
+    integers: a short quadratic or line cu2qu made would otherwise repeat a point)."""
+    from fontTools.misc.roundTools import otRound
+    from fontTools.pens.filterPen import FilterPen
+
+    class GridPen(FilterPen):
+        here = None
+
+        def _kept(self, pts):
+            pts = [(otRound(x), otRound(y)) for x, y in pts]
+            if all(p == self.here for p in pts):
+                return None
+            self.here = pts[-1]
+            return pts
+
+        def moveTo(self, pt):
+            self.here = (otRound(pt[0]), otRound(pt[1]))
+            super().moveTo(self.here)
+
+        def lineTo(self, pt):
+            pts = self._kept([pt])
+            if pts:
+                super().lineTo(pts[0])
+
+        def qCurveTo(self, *points):
+            pts = self._kept(points)
+            if pts:
+                super().qCurveTo(*pts)
+
+    return GridPen(out)
+
+
 def _tt_glyph(rec):
     from fontTools.pens.cu2quPen import Cu2QuPen
     from fontTools.pens.ttGlyphPen import TTGlyphPen
 
     pen = TTGlyphPen(None)
     # cu2qu turns the PostScript winding into TrueType's (clockwise outer contours) as it goes
-    rec.replay(Cu2QuPen(pen, QUAD_ERR, reverse_direction=True))
+    rec.replay(Cu2QuPen(_grid_pen(pen), QUAD_ERR, reverse_direction=True))
     return pen.glyph()
 
 
