@@ -571,6 +571,22 @@ def test_extremes_are_on_curve():
     assert max(_point(kept, t)[1] for t in np.linspace(0, 1, 101)) <= 1e-9 < 0.45 <= EXTREME_UNITS
 
 
+def test_a_long_handle_past_an_end_is_not_pulled_in():
+    """A curve whose handle reaches far past its end's span (a rejoined S-shaped edge of a stroke,
+    its extreme right at an end) keeps its shape: pulling the handle in would move the curve 25
+    units off the ink. A handle a little past is still pulled in."""
+    from brushwork.font.tidy import CLAMP_UNITS, _point, on_curve_extremes
+
+    long = np.array([[766.8, 36.3], [583.8, 32.2], [727.4, 242.8], [641.3, 323.7]])
+    parts = on_curve_extremes(long)
+    drawn = np.concatenate([[_point(c, t) for t in np.linspace(0, 1, 33)] for c in parts])
+    truth = np.array([_point(long, t) for t in np.linspace(0, 1, 401)])
+    assert np.sqrt(((drawn[:, None] - truth[None]) ** 2).sum(-1)).min(1).max() <= CLAMP_UNITS
+    short = np.array([[0.0, 0.0], [30.0, -0.5], [70.0, 10.0], [100.0, 20.0]])
+    (kept,) = on_curve_extremes(short)
+    assert kept[1, 1] == 0.0
+
+
 def test_no_curve_of_the_otf_bulges_past_its_ends(fonts):
     """Every curve of every glyph keeps within its end points' span along x and y (its extremes
     on-curve), within half a unit of the rounding to whole units."""

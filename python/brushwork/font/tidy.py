@@ -1,9 +1,10 @@
 """An outline made tidy for a type designer's tools: the extremes of every curve on-curve (a
 curve split at an x or y extreme inside it that bulges past its ends by more than EXTREME_UNITS,
-the handles of a smaller bulge pulled back within the ends' span), and no degenerate segment (one
-whose points all lie within MIN_SEGMENT of where it starts, a line closing a contour onto its first
-point, which closePath draws, or a hair: two segments out and back, or a whole contour, enclosing
-no ink), and no speck (a contour under SPECK_UNITS2)."""
+the handles of a smaller bulge pulled back within the ends' span where that moves the curve by
+at most CLAMP_UNITS), and no degenerate segment (one whose points all lie within MIN_SEGMENT of
+where it starts, a line closing a contour onto its first point, which closePath draws, or a
+hair: two segments out and back, or a whole contour, enclosing no ink), and no speck (a contour
+under SPECK_UNITS2)."""
 from __future__ import annotations
 
 import numpy as np
@@ -15,6 +16,8 @@ FLAT_UNITS = 0.5        # font units: a curve whose handles lie this close to it
 SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing less width than this is dropped
 REJOIN_UNITS = 0.05     # font units: how far two parts may lie from the parts of the cubic they join into
 EDGE_T = 0.02           # extremes this near a curve's ends (in its parameter) count as at the ends
+CLAMP_UNITS = 2.0       # font units: the most pulling a curve's handles within its ends' span may move it
+CLAMP_T = np.linspace(0.0, 1.0, 17)   # the parameters at which a clamped curve is checked against the curve
 
 
 def _extreme_ts(c: np.ndarray, axis: int) -> list:
@@ -90,8 +93,17 @@ def on_curve_extremes(c: np.ndarray) -> list:
                 # the handles either side of the new point lie level with it: the extreme
                 first[2, axis] = second[1, axis] = bulge
                 return on_curve_extremes(first) + on_curve_extremes(second)
-        c = _clamp(c, axis)
+        c = _clamped(c, axis)
     return [c]
+
+
+def _clamped(c: np.ndarray, axis: int) -> np.ndarray:
+    """c with its handles pulled within its ends' span along axis (_clamp), where that moves no
+    point of the curve by more than CLAMP_UNITS; else c as it is (a long handle past an end, as
+    a rejoined S-shaped curve can have, pulled in would drag the curve off the ink)."""
+    out = _clamp(c, axis)
+    moved = max(float(np.abs(_point(out, t) - _point(c, t)).max()) for t in CLAMP_T)
+    return out if moved <= CLAMP_UNITS else c
 
 
 def _contours(rec) -> list:
