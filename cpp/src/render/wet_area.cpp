@@ -119,15 +119,15 @@ double WetArea::add(const Loops& loops, const Loops& last, const Eigen::Vector2d
   const bool together = (hi - lo + 2.0 * reach) / cell_ < kMaxRows;
   if (together) start_rows(lo - reach, hi + reach);
   double gain = 0.0;
+  auto copy = [&](const Loops& set, const Eigen::Vector2d& offset) {
+    if (!together) start_rows(lo + offset.y(), hi + offset.y());
+    collect(set, offset);
+    if (!together) gain += raise_rows(d);
+  };
   for (int j = 0; j < copies; ++j) {
     const double t = static_cast<double>(j) / copies;
-    const auto slid = {std::pair{&loops, Eigen::Vector2d(-shift * t)}, std::pair{&last, Eigen::Vector2d(shift * t)}};
-    for (const auto& [set, offset] : slid) {
-      if (set->empty() || (set == &last && j == 0)) continue;
-      if (!together) start_rows(lo + offset.y(), hi + offset.y());
-      collect(*set, offset);
-      if (!together) gain += raise_rows(d);
-    }
+    copy(loops, -shift * t);
+    if (j > 0 && !last.empty()) copy(last, shift * t);
   }
   if (together) gain += raise_rows(d);
   return gain * cell_ * cell_;

@@ -17,7 +17,8 @@ SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing
 REJOIN_UNITS = 0.05     # font units: how far two parts may lie from the parts of the cubic they join into
 EDGE_T = 0.02           # extremes this near a curve's ends (in its parameter) count as at the ends
 CLAMP_UNITS = 2.0       # font units: the most pulling a curve's handles within its ends' span may move it
-CLAMP_T = np.linspace(0.0, 1.0, 17)   # the parameters at which a clamped curve is checked against the curve
+_CLAMP_T = np.linspace(0.0, 1.0, 17)     # the parameters at which a clamped curve is checked against the curve
+CLAMP_WEIGHTS = np.stack([3 * (1 - _CLAMP_T) ** 2 * _CLAMP_T, 3 * (1 - _CLAMP_T) * _CLAMP_T ** 2], axis=1)  # (17, 2)
 
 
 def _extreme_ts(c: np.ndarray, axis: int) -> list:
@@ -102,7 +103,8 @@ def _clamped(c: np.ndarray, axis: int) -> np.ndarray:
     point of the curve by more than CLAMP_UNITS; else c as it is (a long handle past an end, as
     a rejoined S-shaped curve can have, pulled in would drag the curve off the ink)."""
     out = _clamp(c, axis)
-    moved = max(float(np.abs(_point(out, t) - _point(c, t)).max()) for t in CLAMP_T)
+    # only the handles moved, along axis: the curve moves by their Bernstein weights' share
+    moved = np.abs(CLAMP_WEIGHTS @ (out[1:3, axis] - c[1:3, axis])).max()
     return out if moved <= CLAMP_UNITS else c
 
 

@@ -115,16 +115,17 @@ class Writer:
         # the travel turns back on itself, at the corner of a 竖提), is pressed PRESS_ON deeper
         # and stepped again, up to HOLD_FRAMES times, as a hand feels the brush lift, rather than
         # lay a gap or a neck in the stroke
+        seen = _centroid_and_width(self.contact, heading)
         for _ in range(HOLD_FRAMES):
-            if not (keep_down and self.touching and press > 0.0 and self._slipped(heading)):
+            if not (keep_down and self.touching and press > 0.0 and self._slipped(seen)):
                 break
             press = min(press + PRESS_ON, PRESS_MAX)
             pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
             stats = self._solve(pose)
             self.contact = self.brush.footprint()
+            seen = _centroid_and_width(self.contact, heading)
             self.frames += 1
             self.holds += 1
-        seen = _centroid_and_width(self.contact, heading)
         self.last_width = None if seen is None else seen[1]
         if self.planning:                   # a rehearsal: the paper is left alone
             self.touching = self.touched_in_stroke = bool(self.contact)
@@ -140,10 +141,9 @@ class Writer:
         self.touched_in_stroke = self.touched_in_stroke or self.touching
         self.frames += 1
 
-    def _slipped(self, heading: float) -> bool:
-        """The brush has left the paper, or its footprint has shrunk to under taper_collapse of
-        its width on the last frame."""
-        seen = _centroid_and_width(self.contact, heading)
+    def _slipped(self, seen: tuple | None) -> bool:
+        """The brush has left the paper (`seen`, its footprint's _centroid_and_width, is None), or
+        its footprint has shrunk to under taper_collapse of its width on the last frame."""
         if seen is None:
             return True
         return self.last_width is not None and seen[1] < self.style.taper_collapse * self.last_width
@@ -293,9 +293,9 @@ class Writer:
 
     def _collapsed(self, heading: float, width: float) -> bool:
         """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent
-        tuft whose belly has sprung off the paper near a stroke's end. Pressing on (the width loop would,
-        and a tip that came down again swelled into a bead after the neck) is not what a hand
-        does there: the stroke ends."""
+        tuft whose belly has sprung off the paper near a stroke's end. Pressing on (the width loop
+        would, and a tip that came down again swelled into a bead after the neck) is not what a
+        hand does there: the stroke ends."""
         seen = _centroid_and_width(self.contact, heading)
         return seen is None or seen[1] < self.style.taper_collapse * width
 
