@@ -587,6 +587,24 @@ def test_a_long_handle_past_an_end_is_not_pulled_in():
     assert kept[1, 1] == 0.0
 
 
+def test_a_small_bulge_whose_handle_cannot_be_pulled_in_is_split_at_its_extreme():
+    """A curve bulging 0.85 units past its end (under EXTREME_UNITS) whose handle, pulled in, would
+    move it 2.9 units (over CLAMP_UNITS) is split at its extreme: two curves that keep its shape
+    (within half a unit),
+    each within its ends' span along x."""
+    from brushwork.font.tidy import _point, on_curve_extremes
+
+    curve = np.array([[448.0, 198.0], [447.0, 150.0], [454.5, 89.0], [438.0, 45.0]])
+    parts = on_curve_extremes(curve)
+    assert len(parts) == 2
+    for c in parts:
+        x = np.array([_point(c, t)[0] for t in np.linspace(0, 1, 65)])
+        assert x.min() >= min(c[0, 0], c[3, 0]) - 1e-9 and x.max() <= max(c[0, 0], c[3, 0]) + 1e-9
+    drawn = np.concatenate([[_point(c, t) for t in np.linspace(0, 1, 65)] for c in parts])
+    truth = np.array([_point(curve, t) for t in np.linspace(0, 1, 401)])
+    assert np.sqrt(((drawn[:, None] - truth[None]) ** 2).sum(-1)).min(1).max() < 0.5     # within rounding
+
+
 def test_no_curve_of_the_otf_bulges_past_its_ends(fonts):
     """Every curve of every glyph keeps within its end points' span along x and y (its extremes
     on-curve), within half a unit of the rounding to whole units."""

@@ -1,7 +1,7 @@
 """An outline made tidy for a type designer's tools: the extremes of every curve on-curve (a
 curve split at an x or y extreme inside it that bulges past its ends by more than EXTREME_UNITS,
 the handles of a smaller bulge pulled back within the ends' span where that moves the curve by
-at most CLAMP_UNITS), and no degenerate segment (one whose points all lie within MIN_SEGMENT of
+at most CLAMP_UNITS, else the curve split there too once it bulges past ROUND_UNITS), and no degenerate segment (one whose points all lie within MIN_SEGMENT of
 where it starts, a line closing a contour onto its first point, which closePath draws, or a
 hair: two segments out and back, or a whole contour, enclosing no ink), and no speck (a contour
 under SPECK_UNITS2)."""
@@ -11,6 +11,7 @@ import numpy as np
 
 MIN_SEGMENT = 1.0       # font units: a segment whose points all lie this close to its start is dropped
 EXTREME_UNITS = 1.0     # font units: a curve bulging past its ends by more than this is split at the extreme
+ROUND_UNITS = 0.25      # font units: ... or by more than this where its handles cannot be pulled in
 SPECK_UNITS2 = 16.0     # square units: a contour enclosing less (a speck of 2 x 2 px at 512 px) is dropped
 FLAT_UNITS = 0.5        # font units: a curve whose handles lie this close to its chord is drawn as a line
 SPIKE_WIDTH = 1.0       # font units: an out-and-back pair of segments enclosing less width than this is dropped
@@ -83,12 +84,15 @@ def rejoin(curves: list) -> list:
 
 
 def on_curve_extremes(c: np.ndarray) -> list:
-    """The cubic c (4, 2) as cubics whose x and y extremes lie at their ends."""
+    """The cubic c (4, 2) as cubics whose x and y extremes lie at their ends: split at an extreme
+    bulging past its ends by more than EXTREME_UNITS, or by more than ROUND_UNITS where pulling
+    its handles in would move the curve too far (_clamped keeps it as it is)."""
     for axis in (0, 1):
         for t in _extreme_ts(c, axis):
             bulge = _point(c, t)[axis]
             lo, hi = sorted((c[0, axis], c[3, axis]))
-            if max(lo - bulge, bulge - hi) > EXTREME_UNITS:
+            over = max(lo - bulge, bulge - hi)
+            if over > EXTREME_UNITS or (over > ROUND_UNITS and _clamped(c, axis) is c):
                 first, second = _split(c, t)
                 first[3, axis] = second[0, axis] = bulge
                 # the handles either side of the new point lie level with it: the extreme
