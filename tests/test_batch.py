@@ -805,6 +805,52 @@ def test_a_footprint_that_collapses_mid_travel_is_pressed_again():
             assert writer.holds == 0 and writer.widths.count(0.5) == 2
 
 
+def _hook_frames(style, leave_at):
+    """A 竖钩 (down 40 mm, then a 8.5 mm flick up and left) written by a brush that touches while
+    pressed deeper than leave_at, the press held at 0.3 L along the travel (no loops): the
+    root heights of its poses, the first flick frame's index among them (None where the style
+    writes no flick) and the flick's arc lengths (mm, from its corner)."""
+    from brushwork.writing.driver import _Aim
+    from brushwork.writing.targets import stroke_targets
+
+    pts = np.array([[30.0, 80.0], [30.0, 40.0], [24.0, 46.0]])
+    writer = Writer(_Paper(), style)
+    writer.brush = _LeavesOnPress(writer.shape, style.tilt_deg, leave_at)
+    writer.press = 0.3
+    writer.write_stroke(pts, "㇚")
+    path, s, heading, width = stroke_targets(style, pts, "㇚", 5.0)
+    corner = _Aim(style, path, s, width).flick_from(heading)
+    z = np.array([p.position[2] for p in writer.brush.poses])
+    start = style.air_frames + style.entry_frames
+    return writer, z, None if corner is None else start + corner, s[corner:] - s[corner] if corner is not None else None
+
+
+def test_a_hooks_flick_eases_the_press_in_a_straight_line_to_flick_press():
+    """Past the hook's corner the loops let go: the press eases in a straight line along the
+    flick from the corner's (0.3 L) to the style's flick_press at the median's end, then the
+    brush lifts straight off. With flick_press null the loops keep the corner's press."""
+    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    writer, z, first, arc = _hook_frames(kai, -0.2)
+    flick = z[first:first + len(arc)]
+    press = (writer.shape.tuft_length * math.cos(math.radians(kai.tilt_deg)) - flick) / writer.shape.tuft_length
+    assert press[0] == pytest.approx(0.3) and press[-1] == pytest.approx(kai.flick_press)
+    line = np.polyfit(arc, press, 1)
+    assert np.abs(np.polyval(line, arc) - press).max() < 1e-9 and line[0] < 0.0
+    assert len(z) == first + len(arc) + 1            # then one frame straight up
+    _, z_loops, _, _ = _hook_frames(replace(kai, flick_press=None), -0.2)
+    assert z_loops[first + len(arc) - 1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, 0.3))
+
+
+def test_a_flick_that_leaves_the_paper_ends_the_stroke_there():
+    """A brush that leaves the paper on the flick (here once the press falls under 0.2 L) lifts
+    there: the flick is not pressed back down."""
+    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    writer, z, first, arc = _hook_frames(kai, 0.2)
+    press = 0.3 + (kai.flick_press - 0.3) * arc / arc[-1]
+    off = int(np.argmax(press <= 0.2))               # the first flick frame off the paper
+    assert writer.holds == 0 and len(z) == first + off + 2
+
+
 @pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])
 def test_root_height_puts_the_straight_tip_press_below_first_contact(tilt):
     """root_height(model, tilt, press): above the paper (press < 0) the straight tuft's tip hangs

@@ -37,6 +37,10 @@ TRAVEL_FRAMES = (2, 10)   # frames of one travel between strokes, fewest and mos
 # the stroke families whose exit tapers (出锋): the left-falling 撇 and rising 提 thin out, the
 # right-falling 捺 leaves its pressed foot and the hook 钩 its flick as the press eases
 TAPERING = ("tapered", "rising", "flared", "hook")
+# a hook's flick: the median past its last turn of more than FLICK_TURN (rad) over the stretch
+# from there to the end, where that turn lies past FLICK_FROM of the median
+FLICK_TURN = 1.0
+FLICK_FROM = 0.6
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -67,6 +71,7 @@ class Writer:
         self.density = 1.0                # width factor of the character being written (density_gain)
         self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
         self.last_width = None            # mm: the footprint's width on the last frame (None: not touching)
+        self.corner_press = 0.0           # L: the press at a hook's corner, eased from along its flick
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
         # the solver over every frame written: steps, steps whose solve stopped at the iteration
         # cap q_max unconverged (a split frame's iterations add up over its sub-steps, so a
@@ -188,6 +193,8 @@ class Writer:
         # alone drew a hairline past the end. So the travel ends where the belly has left, and
         # the brush lifts there
         tapering = st.taper_from is not None and family(kind) in TAPERING
+        if st.flick_press is not None and family(kind) == "hook":
+            aim.flick = aim.flick_from(heading)
         plan = self._plan(aim, heading, w_nom, tapering) if st.plan_passes > 0 else None
         self._come_down(aim, heading[0])
         j = self._along(aim, heading, w_nom, tapering, plan)
@@ -267,6 +274,10 @@ class Writer:
         self.log = _Log()
         self.sprung = False
         for j in range(len(aim.path) if plan is None else len(plan.press)):
+            if aim.flick is not None and j >= aim.flick:
+                if not self._flick_step(aim, heading, j):
+                    break
+                continue
             pj = aim.target(self, j)
             if plan is None:
                 if j > 0:
@@ -290,6 +301,22 @@ class Writer:
                 self.sprung = True
                 break
         return j
+
+    def _flick_step(self, aim: "_Aim", heading: np.ndarray, j: int) -> bool:
+        """One frame of a hook's flick 钩: out of the pressed corner the hand flicks the brush
+        along the hook while it eases the press in a straight line from the corner's to the
+        style's flick_press at the median's end, without the loops (their width loop, pressing
+        the belly back down as it swung round the corner, left a club or a knot where the flick
+        belongs). False once the brush has left the paper."""
+        if j == aim.flick:
+            self.corner_press = self.press
+        f = (aim.s[j] - aim.s[aim.flick]) / max(aim.length - aim.s[aim.flick], 1e-6)
+        eased = self.corner_press + (self.style.flick_press - self.corner_press) * f
+        self.press = float(_clip(eased, 0.0, PRESS_MAX))
+        pj = aim.target(self, j)
+        self._step(pj, heading[j], self.press, self.style.tilt_deg)
+        self.log.add(self.root, self.press, pj, heading[j], self.contact)
+        return bool(self.contact)
 
     def _collapsed(self, heading: float, width: float) -> bool:
         """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent
@@ -393,6 +420,7 @@ class _Aim:
                  joined: tuple = (False, False)):
         self.st, self.path, self.s, self.width = st, path, s, width
         self.joined = joined
+        self.flick: int | None = None     # the first frame of a hook's flick (flick_from), if written as one
         self.length = max(s[-1], 1e-6)
         self.start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
         self.end_reach = st.end_reach_em
@@ -423,6 +451,15 @@ class _Aim:
     def ending_at(self, j: int) -> bool:
         """Past taper_from along the median (any stroke's last stretch)."""
         return self.st.taper_from is not None and self.s[j] > self.st.taper_from * self.length
+
+    def flick_from(self, heading: np.ndarray) -> int | None:
+        """The first frame of the hook's flick: the last along the path whose heading differs by
+        more than FLICK_TURN from the end's, where it lies past FLICK_FROM of the median; None
+        where the path has no such turn."""
+        turned = np.nonzero(np.abs(heading - heading[-1]) > FLICK_TURN)[0]
+        if len(turned) == 0 or self.s[turned[-1]] < FLICK_FROM * self.length:
+            return None
+        return int(turned[-1])
 
     def tapers_at(self, j: int) -> bool:
         """Past taper_from along the median, where the profile thins toward the next point."""
