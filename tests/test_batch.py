@@ -805,17 +805,18 @@ def test_a_footprint_that_collapses_mid_travel_is_pressed_again():
             assert writer.holds == 0 and writer.widths.count(0.5) == 2
 
 
-def _hook_frames(style, leave_at):
+def _hook_frames(style, leave_at, brush=None):
     """A 竖钩 (down 40 mm, then a 8.5 mm flick up and left) written by a brush that touches while
-    pressed deeper than leave_at, the press held at 0.3 L along the travel (no loops): the
-    root heights of its poses, the first flick frame's index among them (None where the style
-    writes no flick) and the flick's arc lengths (mm, from its corner)."""
+    pressed deeper than leave_at (or by brush(writer.shape)), the press held at 0.3 L along the
+    travel (no loops): the writer, the root heights of its poses, the first flick frame's index
+    among them (None where the style writes no flick) and the flick's arc lengths (mm, from its
+    corner)."""
     from brushwork.writing.driver import _Aim
     from brushwork.writing.targets import stroke_targets
 
     pts = np.array([[30.0, 80.0], [30.0, 40.0], [24.0, 46.0]])
     writer = Writer(_Paper(), style)
-    writer.brush = _LeavesOnPress(writer.shape, style.tilt_deg, leave_at)
+    writer.brush = (brush or (lambda shape: _LeavesOnPress(shape, style.tilt_deg, leave_at)))(writer.shape)
     writer.press = 0.3
     writer.write_stroke(pts, "㇚")
     path, s, heading, width = stroke_targets(style, pts, "㇚", 5.0)
@@ -849,6 +850,18 @@ def test_a_flick_that_leaves_the_paper_ends_the_stroke_there():
     press = 0.3 + (kai.flick_press - 0.3) * arc / arc[-1]
     off = int(np.argmax(press <= 0.2))               # the first flick frame off the paper
     assert writer.holds == 0 and len(z) == first + off + 2
+
+
+def test_a_flick_whose_footprint_collapses_ends_the_stroke_there():
+    """A flick whose footprint shrinks within a frame to under taper_collapse of its width (the
+    belly sprang off the paper) ends there and the brush goes straight up: flicked on, the tip
+    came down again behind it, a bead at the hook's end."""
+    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    _, _, first, arc = _hook_frames(kai, -0.2)
+    sliver_from = first + 3            # the flick's fourth frame (1-based step count)
+    writer, z, _, _ = _hook_frames(kai, -0.2, lambda shape: _SpringsOff(shape, kai.tilt_deg, sliver_from))
+    assert len(arc) > 4 and len(z) == sliver_from + 1     # the collapsed frame, then one lift
+    assert z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
 
 
 @pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])

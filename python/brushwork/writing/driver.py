@@ -307,16 +307,20 @@ class Writer:
         along the hook while it eases the press in a straight line from the corner's to the
         style's flick_press at the median's end, without the loops (their width loop, pressing
         the belly back down as it swung round the corner, left a club or a knot where the flick
-        belongs). False once the brush has left the paper."""
+        belongs). False once the brush has left the paper, or its footprint has shrunk within the
+        frame to under taper_collapse of its width (the belly sprang off: flicked on, the tip came
+        down again behind it, a bead at the hook's end)."""
         if j == aim.flick:
             self.corner_press = self.press
         f = (aim.s[j] - aim.s[aim.flick]) / max(aim.length - aim.s[aim.flick], 1e-6)
         eased = self.corner_press + (self.style.flick_press - self.corner_press) * f
         self.press = float(_clip(eased, 0.0, PRESS_MAX))
-        pj = aim.target(self, j)
+        pj, before = aim.target(self, j), self.last_width
         self._step(pj, heading[j], self.press, self.style.tilt_deg)
         self.log.add(self.root, self.press, pj, heading[j], self.contact)
-        return bool(self.contact)
+        if self.last_width is None:
+            return False
+        return before is None or self.last_width >= self.style.taper_collapse * before
 
     def _collapsed(self, heading: float, width: float) -> bool:
         """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent
