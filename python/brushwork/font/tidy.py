@@ -1,10 +1,10 @@
 """An outline made tidy for a type designer's tools: the extremes of every curve on-curve (a
 curve split at an x or y extreme inside it that bulges past its ends by more than EXTREME_UNITS,
 the handles of a smaller bulge pulled back within the ends' span where that moves the curve by
-at most CLAMP_UNITS, else the curve split there too once it bulges past ROUND_UNITS), and no degenerate segment (one whose points all lie within MIN_SEGMENT of
-where it starts, a line closing a contour onto its first point, which closePath draws, or a
-hair: two segments out and back, or a whole contour, enclosing no ink), and no speck (a contour
-under SPECK_UNITS2)."""
+at most CLAMP_UNITS, else the curve split there too once it bulges past ROUND_UNITS), and no
+degenerate segment (one whose points all lie within MIN_SEGMENT of where it starts, a line
+closing a contour onto its first point, which closePath draws, or a hair: two segments out and
+back, or a whole contour, enclosing no ink), and no speck (a contour under SPECK_UNITS2)."""
 from __future__ import annotations
 
 import numpy as np

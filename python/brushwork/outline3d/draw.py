@@ -116,14 +116,14 @@ def _strokes(drawer: OutlineDrawer, order: list, camera, style: OutlineStyle, di
 
     shapes = []
     traced = vector and drawer.stroke_paper is None
-    before = drawer.paper.ink() if traced else None
+    prior = drawer.paper.ink() if traced else None
     for c, w in zip(order, weights(order, camera, style, diagonal)):
         drawer.draw(c, w)
         alpha = 1.0 if c.visible else style.hidden_alpha
         if traced:
-            after = drawer.paper.ink()
-            shapes.append(vec.StrokeShape(c.kind, c.visible, alpha, vec.stroke_outline(before, after, alpha)))
-            before = after
+            inked = drawer.paper.ink()
+            shapes.append(vec.StrokeShape(c.kind, c.visible, alpha, vec.stroke_outline(prior, inked, alpha)))
+            prior = inked
         elif vector:
             shapes.append(vec.StrokeShape(c.kind, c.visible, alpha, drawer.stroke_loops()))
     return shapes

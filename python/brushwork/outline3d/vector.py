@@ -36,20 +36,20 @@ class StrokeShape:
     loops: list = field(default_factory=list)
 
 
-def stroke_outline(before: np.ndarray, after: np.ndarray, alpha: float) -> list:
-    """The outline (loops, px) of the ink a stroke laid: the paper's coverage (H, W) `after` it
-    where it added to `before`, traced at LEVEL times its opacity `alpha`."""
+def stroke_outline(prior: np.ndarray, inked: np.ndarray, alpha: float) -> list:
+    """The outline (loops, px) of the ink a stroke laid: the paper's coverage (H, W) once it is
+    `inked` where it added to the coverage `prior` to it, traced at LEVEL times its opacity `alpha`."""
     import cv2
 
-    region = (after - before) > CHANGED
+    region = (inked - prior) > CHANGED
     if not region.any():
         return []
     ys, xs = np.nonzero(region)
-    h, w = after.shape
+    h, w = inked.shape
     y0, y1 = max(0, ys.min() - 2), min(h, ys.max() + 3)
     x0, x1 = max(0, xs.min() - 2), min(w, xs.max() + 3)
     near = cv2.dilate(region[y0:y1, x0:x1].astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)
-    field_ = np.where(near, after[y0:y1, x0:x1], 0.0).astype(np.float32)
+    field_ = np.where(near, inked[y0:y1, x0:x1], 0.0).astype(np.float32)
     big = cv2.resize(field_, None, fx=TRACE_SCALE, fy=TRACE_SCALE, interpolation=cv2.INTER_LINEAR)
     level = LEVEL * alpha
     contours, _ = cv2.findContours((big >= level).astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_NONE)

@@ -122,7 +122,8 @@ class Writer:
         # lay a gap or a neck in the stroke
         seen = _centroid_and_width(self.contact, heading)
         for _ in range(HOLD_FRAMES):
-            if not (keep_down and self.touching and press > 0.0 and self._slipped(seen)):
+            if not (keep_down and self.touching and press > 0.0
+                    and self._slipped(None if seen is None else seen[1], self.last_width)):
                 break
             press = min(press + PRESS_ON, PRESS_MAX)
             pose = Pose((root[0], root[1], root_height(self.shape, tilt, press)), tilt, math.degrees(heading))
@@ -146,12 +147,12 @@ class Writer:
         self.touched_in_stroke = self.touched_in_stroke or self.touching
         self.frames += 1
 
-    def _slipped(self, seen: tuple | None) -> bool:
-        """The brush has left the paper (`seen`, its footprint's _centroid_and_width, is None), or
-        its footprint has shrunk to under taper_collapse of its width on the last frame."""
-        if seen is None:
+    def _slipped(self, width: float | None, before: float | None) -> bool:
+        """The brush has left the paper (its footprint's `width` is None), or its footprint has
+        shrunk to under taper_collapse of its width `before`, a frame earlier."""
+        if width is None:
             return True
-        return self.last_width is not None and seen[1] < self.style.taper_collapse * self.last_width
+        return before is not None and width < self.style.taper_collapse * before
 
     def _observe(self, target: np.ndarray, heading: float, width_target: float | None) -> None:
         seen = _centroid_and_width(self.contact, heading)
@@ -318,9 +319,7 @@ class Writer:
         pj, before = aim.target(self, j), self.last_width
         self._step(pj, heading[j], self.press, self.style.tilt_deg)
         self.log.add(self.root, self.press, pj, heading[j], self.contact)
-        if self.last_width is None:
-            return False
-        return before is None or self.last_width >= self.style.taper_collapse * before
+        return not self._slipped(self.last_width, before)
 
     def _collapsed(self, heading: float, width: float) -> bool:
         """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent

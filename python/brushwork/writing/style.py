@@ -100,7 +100,7 @@ FIELDS: tuple[StyleField, ...] = (
        "... and the travel ends once the footprint is narrower than this fraction of the width "
        "(earlier, a footprint shrinking under this fraction of its last width is pressed again)"),
     _F("flick_press", "float?", "L", -0.2, 0.5, None,
-       "a hook's flick 钩 (the median past its last turn of more than FLICK_TURN) written open-loop, "
+       "a hook's flick 钩 (the median past its last turn of more than 57 deg) written open-loop, "
        "the press eased in a straight line from the corner's to this (null: the loops write it)"),
     _F("plan_passes", "int", "passes", 0, 8, 0,
        "rehearsals of each stroke replaying a corrected plan of poses (0: the frame-by-frame loops alone)"),
