@@ -216,8 +216,9 @@ Loops Brush::own_footprint(const MeshOptions& opt) const { return footprint_loop
 
 Loops Brush::footprint(const MeshOptions& opt) const {
   Loops all;
+  const bool core = opt.rings_per_segment == MeshOptions{}.rings_per_segment && opt.around == MeshOptions{}.around;
   for (int k : tufts()) {
-    Loops l = footprint_loops(sweep_surface(sections(k), opt));
+    Loops l = core ? core_footprint(sections(k)) : footprint_loops(sweep_surface(sections(k), opt));
     all.insert(all.end(), l.begin(), l.end());
   }
   return all;

@@ -11,7 +11,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -443,20 +442,28 @@ std::vector<Segment> crossing_segments(const SurfaceMesh& mesh) {
   return segs;
 }
 
+// the segments by the edge each starts on, sorted: (edge key, segment)
+using Starts = std::vector<std::pair<std::uint64_t, int>>;
+
+// the first segment that starts on edge `key`, or -1
+int starting_on(const Starts& by_start, std::uint64_t key) {
+  const auto it = std::lower_bound(by_start.begin(), by_start.end(), std::make_pair(key, -1));
+  return it != by_start.end() && it->first == key ? it->second : -1;
+}
+
 // walk from segment s0 until the loop returns to it, collecting its points (zero-length steps,
 // a vertex lying exactly on the plane, skipped); false for an open chain (only possible for a
 // mesh that is not closed)
-bool walk_loop(const std::vector<Segment>& segs, const std::unordered_map<std::uint64_t, int>& by_start,
-               int s0, std::vector<char>& used, std::vector<Vec2>& pts) {
+bool walk_loop(const std::vector<Segment>& segs, const Starts& by_start, int s0, std::vector<char>& used,
+               std::vector<Vec2>& pts) {
   pts.clear();
   int s = s0;
   while (true) {
     used[s] = 1;
     const Vec2& p = segs[s].p;
     if (pts.empty() || (p - pts.back()).squaredNorm() > kSamePoint2) pts.push_back(p);
-    const auto it = by_start.find(segs[s].to);
-    if (it == by_start.end()) return false;
-    s = it->second;
+    s = starting_on(by_start, segs[s].to);
+    if (s < 0) return false;
     if (s == s0) return true;
     if (used[s]) return false;
   }
@@ -467,9 +474,9 @@ bool walk_loop(const std::vector<Segment>& segs, const std::unordered_map<std::u
 std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
   const std::vector<Segment> segs = crossing_segments(mesh);
   // link segments through their shared edge keys
-  std::unordered_map<std::uint64_t, int> by_start;
-  by_start.reserve(segs.size() * 2);
-  for (int s = 0; s < static_cast<int>(segs.size()); ++s) by_start.emplace(segs[s].from, s);
+  Starts by_start(segs.size());
+  for (int s = 0; s < static_cast<int>(segs.size()); ++s) by_start[s] = {segs[s].from, s};
+  std::sort(by_start.begin(), by_start.end());
 
   std::vector<LoopMatrix> loops;
   std::vector<char> used(segs.size(), 0);

@@ -57,26 +57,31 @@ double WetArea::raise_run(int cy, double xa, double xb, float density) {
 }
 
 void WetArea::collect(const Loops& loops, const Eigen::Vector2d& offset) {
-  // each edge's crossings with the rows of cell centres, y = (cy + 1/2) cell, it spans, as (cy, x mm)
-  hits_.clear();
+  // each edge's crossings with the rows of cell centres, y = (cy + 1/2) cell, it spans, as x mm
+  // in the crossing's row
+  if (hits_.size() < rows_.size()) hits_.resize(rows_.size());
+  hit_rows_.clear();
   for (const auto& l : loops)
     for (Eigen::Index i = 0, n = l.rows(); i < n; ++i) {
-      const double x0 = l(i, 0), y0 = l(i, 1), x1 = l((i + 1) % n, 0), y1 = l((i + 1) % n, 1);
+      const Eigen::Index j = i + 1 == n ? 0 : i + 1;
+      const double x0 = l(i, 0), y0 = l(i, 1), x1 = l(j, 0), y1 = l(j, 1);
       const double ya = std::min(y0, y1) + offset.y(), yb = std::max(y0, y1) + offset.y();
       for (int cy = static_cast<int>(std::floor(ya / cell_ - 0.5)); (cy - 0.5) * cell_ <= yb; ++cy) {
         const double y = (cy + 0.5) * cell_ - offset.y();
         // the half-open rule: an edge counts the rows from its lower end up to, not at, its upper
-        if ((y0 <= y) != (y1 <= y)) hits_.emplace_back(cy, x0 + (y - y0) / (y1 - y0) * (x1 - x0) + offset.x());
+        if ((y0 <= y) == (y1 <= y)) continue;
+        std::vector<double>& row = hits_[static_cast<std::size_t>(cy - row0_)];
+        if (row.empty()) hit_rows_.push_back(cy - row0_);
+        row.push_back(x0 + (y - y0) / (y1 - y0) * (x1 - x0) + offset.x());
       }
     }
-  std::sort(hits_.begin(), hits_.end());
   // row by row, inside between crossings 0-1, 2-3, ...
-  for (std::size_t a = 0; a < hits_.size();) {
-    std::size_t b = a;
-    while (b < hits_.size() && hits_[b].first == hits_[a].first) ++b;
-    auto& row = rows_[static_cast<std::size_t>(hits_[a].first - row0_)];
-    for (std::size_t k = a; k + 1 < b; k += 2) row.emplace_back(hits_[k].second, hits_[k + 1].second);
-    a = b;
+  for (const int r : hit_rows_) {
+    std::vector<double>& xs = hits_[static_cast<std::size_t>(r)];
+    std::sort(xs.begin(), xs.end());
+    auto& row = rows_[static_cast<std::size_t>(r)];
+    for (std::size_t k = 0; k + 1 < xs.size(); k += 2) row.emplace_back(xs[k], xs[k + 1]);
+    xs.clear();
   }
 }
 

@@ -42,7 +42,9 @@ class WetArea {
 
   double cell_;
   std::unordered_map<std::int64_t, std::vector<float>> blocks_;  // (kBlock, kBlock) densities each
-  std::vector<std::pair<int, double>> hits_;  // scratch: one loop set's crossings (row, x mm)
+  // scratch: one loop set's crossings, x mm row by row (as rows_), and the rows that have any
+  std::vector<std::vector<double>> hits_;
+  std::vector<int> hit_rows_;
   // scratch: the runs [xa, xb) mm of every copy of one deposit, row by row from row row0_
   std::vector<std::vector<std::pair<double, double>>> rows_;
   int row0_ = 0;
