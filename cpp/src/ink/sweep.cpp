@@ -374,7 +374,8 @@ Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const Swe
   const std::vector<Blend> bs = adaptive_blends(p, std::move(l0), std::move(l1), K, tol);
   if (samples != nullptr) *samples = static_cast<int>(bs.size()) - 1;
   blend_bands(bs, out);
-  return simplified(std::move(out), 0.5 * tol.tol_mm);
+  // points within tol of their chord go, as the stroke's clean-up drops them (clip::clean)
+  return simplified(std::move(out), tol.tol_mm);
 }
 
 Loops union_loops(const Loops& loops) { return clip::to_loops(clip::unite(clip::to_paths(loops))); }
