@@ -142,6 +142,33 @@ def test_a_vector_paper_stroke_matches_the_gl_pass_and_repeats_exactly():
     assert geo.undo() and geo.ink().sum() == 0.0
 
 
+def test_every_readback_of_a_geometry_paper_shows_the_same_ink():
+    """ink(), rgba() and image() (over white and on transparency, 8 and 16 bits) agree pixel for
+    pixel, on a paper of one ink (read out over its strokes' box of pixels only) and of two, and
+    the bare paper around the strokes reads as clear in every one."""
+    one = write_stroke(VectorPaper(60, 40, 10))
+    two = write_stroke(VectorPaper(60, 40, 10))
+    b, z1 = pressed_brush()
+    b.load_ink(ramp=[(0.8, 0.1, 0.1, 1.0)])
+    b.step(bw.Pose((8.0, 8.0, z1), 15, 0))
+    two.deposit(b)
+    two.end_stroke()
+    for paper in (one, two):
+        ink, rgba = paper.ink(), paper.rgba()
+        assert np.array_equal(rgba[..., 3], ink)
+        clear = ink == 0.0
+        assert clear[0].all() and clear[-1].all() and clear[:, 0].all() and clear[:, -1].all()
+        for bits, top in ((8, 255), (16, 65535)):
+            over = paper.image(bits=bits).astype(float)
+            straight = paper.image(bits=bits, background="transparent").astype(float)
+            # over white: 1 - a + premultiplied colour; on transparency: the alpha itself
+            want = np.round(np.clip(1.0 - ink[..., None] + rgba[..., :3], 0.0, 1.0) * top)
+            assert np.abs(over - want).max() <= 1.0
+            assert np.abs(straight[..., 3] - np.round(ink * top)).max() <= 1.0
+            assert (over[clear] == top).all() and (straight[clear] == 0).all()
+    assert np.count_nonzero(two.ink()) > np.count_nonzero(one.ink())
+
+
 def test_the_scene_chooses_the_path():
     assert ink_path(bw.Scene(), "auto") == "geometry"
     assert ink_path(bw.Scene(depletion=True), "auto") == "geometry"

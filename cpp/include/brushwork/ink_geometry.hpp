@@ -96,7 +96,9 @@ class VectorPaper {
                     DepositStats& stats);
   void flush_stroke();
   std::vector<Layer> layers();  // consecutive strokes of one colour and density, unioned
-  void composite(const std::function<void(int row, const float* rgba)>& put);
+  // the paper's premultiplied RGBA row by row (0 at the top); every pixel of a row outside
+  // [x0, x1) is clear (0, 0, 0, 0), so a caller may take those as the background's
+  void composite(const std::function<void(int row, const float* rgba, int x0, int x1)>& put);
 
   SceneFeatures scene_;
   SweepTolerance tol_;

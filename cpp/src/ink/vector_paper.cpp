@@ -288,12 +288,26 @@ std::array<int, 4> pixel_box(const ClipperLib::Paths& paths, double ppm, int W, 
   return {px(lo[0], W, false), px(hi[0], W, true), px(lo[1], H, false), px(hi[1], H, true)};
 }
 
-// a layer's ink over the paper: the densest of its groups' coverage at each pixel, each group
-// rasterised over its own box of pixels only (the loops moved by whole pixels, so the grid is the
-// paper's; what lies left or right of the paper is clamped to its side as on the whole paper)
-void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, std::vector<float>& cov,
-                 std::vector<float>& alpha) {
-  alpha.assign(static_cast<std::size_t>(W) * H, 0.0f);
+// the box of pixels [x0, x1) x [y0, y1) (y from the bottom) that any of the groups can cover;
+// empty (x1 <= x0 or y1 <= y0) when none covers any
+std::array<int, 4> groups_box(const std::vector<Group>& groups, double ppm, int W, int H) {
+  std::array<int, 4> box{W, 0, H, 0};
+  for (const Group& g : groups) {
+    const auto [x0, x1, y0, y1] = pixel_box(g.paths, ppm, W, H);
+    if (x1 <= x0 || y1 <= y0) continue;
+    box = {std::min(box[0], x0), std::max(box[1], x1), std::min(box[2], y0), std::max(box[3], y1)};
+  }
+  return box;
+}
+
+// a layer's ink over the pixels of `box` ([x0, x1) x [y0, y1), y from the bottom), row by row
+// from the box's top: the densest of its groups' coverage at each pixel, each group rasterised
+// over its own box of pixels only (the loops moved by whole pixels, so the grid is the paper's;
+// what lies left or right of the paper is clamped to its side as on the whole paper)
+void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, const std::array<int, 4>& box,
+                 std::vector<float>& cov, std::vector<float>& alpha) {
+  const int bw = box[1] - box[0], by1 = box[3];
+  alpha.assign(static_cast<std::size_t>(std::max(bw, 0)) * std::max(box[3] - box[2], 0), 0.0f);
   for (const Group& g : groups) {
     const auto [x0, x1, y0, y1] = pixel_box(g.paths, ppm, W, H);
     if (x1 <= x0 || y1 <= y0) continue;
@@ -303,9 +317,9 @@ void layer_alpha(const std::vector<Group>& groups, double ppm, int W, int H, std
     cov.resize(static_cast<std::size_t>(w) * h);
     coverage(loops, ppm, w, h, cov.data());
     const float d = static_cast<float>(g.density);
-    // the box's row r (0 at its top) is the paper's row H - y1 + r (0 at the paper's top)
+    // the group's row r (0 at its top) is the layer box's row by1 - y1 + r
     for (int r = 0; r < h; ++r) {
-      float* a = &alpha[static_cast<std::size_t>(H - y1 + r) * W + x0];
+      float* a = &alpha[static_cast<std::size_t>(by1 - y1 + r) * bw + (x0 - box[0])];
       const float* c = &cov[static_cast<std::size_t>(r) * w];
       for (int i = 0; i < w; ++i) a[i] = std::max(a[i], d * c[i]);
     }
@@ -323,19 +337,24 @@ void layer_row(const std::array<float, 4>& color, const float* a, int W, float* 
 
 }  // namespace
 
-void VectorPaper::composite(const std::function<void(int row, const float* rgba)>& put) {
+void VectorPaper::composite(const std::function<void(int row, const float* rgba, int x0, int x1)>& put) {
   // each layer's ink composited over the last, premultiplied: P = L + P (1 - L_a); one layer (a
-  // paper of one ink) goes out row by row without the RGBA plane
+  // paper of one ink) goes out row by row without the RGBA plane, worked over its box of pixels
+  // only (the rest of the paper is clear)
   const std::vector<Layer> ls = layers();
   const auto t0 = std::chrono::steady_clock::now();
   const std::size_t N = static_cast<std::size_t>(W_) * H_;
   std::vector<float>&cov = wet_->cov, &alpha = wet_->alpha;
-  std::vector<float> rgba, row(4 * static_cast<std::size_t>(W_), 0.0f);
+  std::vector<float> rgba, row(4 * static_cast<std::size_t>(W_), 0.0f), clear(row);
   if (ls.size() <= 1) {
-    if (!ls.empty()) layer_alpha(ls[0].groups, ppm_, W_, H_, cov, alpha);
+    const std::array<int, 4> box = ls.empty() ? std::array<int, 4>{0, 0, 0, 0} : groups_box(ls[0].groups, ppm_, W_, H_);
+    const int x0 = box[0], bw = box[1] - box[0], top = H_ - box[3];  // the box's first row from the top
+    if (bw > 0 && box[3] > box[2]) layer_alpha(ls[0].groups, ppm_, W_, H_, box, cov, alpha);
     for (int y = 0; y < H_; ++y) {
-      if (!ls.empty()) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y) * W_], W_, row.data());
-      put(y, row.data());
+      const bool in = bw > 0 && y >= top && y < H_ - box[2];
+      if (in) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y - top) * bw], bw, &row[4 * static_cast<std::size_t>(x0)]);
+      if (in) put(y, row.data(), x0, box[1]);
+      else put(y, clear.data(), 0, 0);
     }
     wet_->release_large();
     raster_s_ = seconds_since(t0);
@@ -343,7 +362,7 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
   }
   rgba.assign(4 * N, 0.0f);
   for (const Layer& l : ls) {
-    layer_alpha(l.groups, ppm_, W_, H_, cov, alpha);
+    layer_alpha(l.groups, ppm_, W_, H_, {0, W_, 0, H_}, cov, alpha);
     for (std::size_t i = 0; i < N; ++i) {
       const float s = alpha[i] * l.color[3];
       float* P = &rgba[4 * i];
@@ -351,27 +370,36 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba)
       P[3] = s + P[3] * (1.0f - s);
     }
   }
-  for (int y = 0; y < H_; ++y) put(y, &rgba[4 * static_cast<std::size_t>(y) * W_]);
+  for (int y = 0; y < H_; ++y) put(y, &rgba[4 * static_cast<std::size_t>(y) * W_], 0, W_);
   wet_->release_large();
   raster_s_ = seconds_since(t0);
 }
 
 void VectorPaper::read_ink(float* out) {
-  composite([&](int y, const float* rgba) {
+  composite([&](int y, const float* rgba, int, int) {
     float* dst = out + static_cast<std::size_t>(y) * W_;
     for (int x = 0; x < W_; ++x) dst[x] = rgba[4 * x + 3];
   });
 }
 
 void VectorPaper::read_rgba(float* out) {
-  composite([&](int y, const float* rgba) { std::copy_n(rgba, 4 * W_, out + 4 * static_cast<std::size_t>(y) * W_); });
+  composite([&](int y, const float* rgba, int, int) {
+    std::copy_n(rgba, 4 * W_, out + 4 * static_cast<std::size_t>(y) * W_);
+  });
 }
 
 void VectorPaper::read_image(int bits, bool white, bool bgr, void* out) {
   if (bits != 8 && bits != 16) throw std::invalid_argument("bits = " + std::to_string(bits) + ": expected 8 or 16");
-  const std::size_t px = static_cast<std::size_t>(W_) * (white ? 3 : 4) * (bits == 8 ? 1 : 2);
-  composite([&](int y, const float* rgba) {
-    image_row_any(rgba, static_cast<std::uint8_t*>(out) + static_cast<std::size_t>(y) * px, W_, bits, white, bgr);
+  const std::size_t pixel = (white ? 3 : 4) * (bits == 8 ? 1 : 2), px = static_cast<std::size_t>(W_) * pixel;
+  // a clear row's pixels, converted once; each row converts only the pixels of its ink's span
+  std::vector<std::uint8_t> clear(px);
+  const std::vector<float> none(4 * static_cast<std::size_t>(W_), 0.0f);
+  image_row_any(none.data(), clear.data(), W_, bits, white, bgr);
+  composite([&](int y, const float* rgba, int x0, int x1) {
+    auto* dst = static_cast<std::uint8_t*>(out) + static_cast<std::size_t>(y) * px;
+    std::copy_n(clear.data(), x0 * pixel, dst);
+    image_row_any(rgba + 4 * static_cast<std::size_t>(x0), dst + x0 * pixel, x1 - x0, bits, white, bgr);
+    std::copy(clear.begin() + static_cast<std::ptrdiff_t>(x1 * pixel), clear.end(), dst + x1 * pixel);
   });
 }
 
