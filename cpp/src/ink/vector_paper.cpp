@@ -347,14 +347,17 @@ void VectorPaper::composite(const std::function<void(int row, const float* rgba,
   std::vector<float>&cov = wet_->cov, &alpha = wet_->alpha;
   std::vector<float> rgba, row(4 * static_cast<std::size_t>(W_), 0.0f), clear(row);
   if (ls.size() <= 1) {
-    const std::array<int, 4> box = ls.empty() ? std::array<int, 4>{0, 0, 0, 0} : groups_box(ls[0].groups, ppm_, W_, H_);
+    const std::array<int, 4> box = ls.empty() ? std::array<int, 4>{} : groups_box(ls[0].groups, ppm_, W_, H_);
     const int x0 = box[0], bw = box[1] - box[0], top = H_ - box[3];  // the box's first row from the top
     if (bw > 0 && box[3] > box[2]) layer_alpha(ls[0].groups, ppm_, W_, H_, box, cov, alpha);
     for (int y = 0; y < H_; ++y) {
-      const bool in = bw > 0 && y >= top && y < H_ - box[2];
-      if (in) layer_row(ls[0].color, &alpha[static_cast<std::size_t>(y - top) * bw], bw, &row[4 * static_cast<std::size_t>(x0)]);
-      if (in) put(y, row.data(), x0, box[1]);
-      else put(y, clear.data(), 0, 0);
+      if (bw > 0 && y >= top && y < H_ - box[2]) {
+        const float* a = &alpha[static_cast<std::size_t>(y - top) * bw];
+        layer_row(ls[0].color, a, bw, &row[4 * static_cast<std::size_t>(x0)]);
+        put(y, row.data(), x0, box[1]);
+      } else {
+        put(y, clear.data(), 0, 0);
+      }
     }
     wet_->release_large();
     raster_s_ = seconds_since(t0);
