@@ -54,6 +54,24 @@ def test_held_above_the_paper_stays_straight_and_unstrained():
     assert s.iterations == 0
 
 
+def test_a_footprint_asked_for_again_is_the_same_and_follows_the_mesh_and_the_pose():
+    """The footprints the core keeps are those of the sections and the mesh asked for: the same
+    pose and mesh give the same loops, a finer mesh its own, and a step a new one (never a kept
+    footprint of another pose or mesh)."""
+    b = bw.Brush("small")
+    L = b.model.tuft_length
+    b.step(bw.Pose((0.0, 0.0, 0.7 * L), tilt_deg=10.0, azimuth_deg=0.0))
+    first, fine = b.footprint(), b.footprint(bw.MeshOptions(8, 96))
+    again = b.footprint()
+    assert first and len(first) == len(again)
+    assert all(np.array_equal(a, c) for a, c in zip(first, again))
+    assert sum(len(l) for l in fine) > 1.5 * sum(len(l) for l in first)
+    assert b.footprint_area() == pytest.approx(b.footprint_area(bw.MeshOptions(8, 96)), rel=0.02)
+    b.step(bw.Pose((0.0, 0.0, 0.65 * L), tilt_deg=10.0, azimuth_deg=0.0))
+    deeper = b.footprint()
+    assert abs(sum(np.ptp(l[:, 0]) for l in deeper) - sum(np.ptp(l[:, 0]) for l in first)) > 1e-3
+
+
 def test_pressing_deeper_widens_the_footprint():
     b = bw.Brush("medium")
     # fine steps of a light upright press (test_footprint_grows_with_press_depth goes to 0.4 L)

@@ -590,8 +590,7 @@ def test_a_long_handle_past_an_end_is_not_pulled_in():
 def test_a_small_bulge_whose_handle_cannot_be_pulled_in_is_split_at_its_extreme():
     """A curve bulging 0.85 units past its end (under EXTREME_UNITS) whose handle, pulled in, would
     move it 2.9 units (over CLAMP_UNITS) is split at its extreme: two curves that keep its shape
-    (within half a unit),
-    each within its ends' span along x."""
+    (within half a unit), each within its ends' span along x."""
     from brushwork.font.tidy import _point, on_curve_extremes
 
     curve = np.array([[448.0, 198.0], [447.0, 150.0], [454.5, 89.0], [438.0, 45.0]])

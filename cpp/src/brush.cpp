@@ -212,13 +212,12 @@ std::vector<Section> Brush::sections(int k) const {
 
 SurfaceMesh Brush::surface_mesh(const MeshOptions& opt) const { return sweep_surface(sections(), opt); }
 
-Loops Brush::own_footprint(const MeshOptions& opt) const { return footprint_loops(surface_mesh(opt)); }
+Loops Brush::own_footprint(const MeshOptions& opt) const { return footprint_of(sections(), opt); }
 
 Loops Brush::footprint(const MeshOptions& opt) const {
   Loops all;
-  const bool core = opt.rings_per_segment == MeshOptions{}.rings_per_segment && opt.around == MeshOptions{}.around;
   for (int k : tufts()) {
-    Loops l = core ? core_footprint(sections(k)) : footprint_loops(sweep_surface(sections(k), opt));
+    Loops l = footprint_of(sections(k), opt);
     all.insert(all.end(), l.begin(), l.end());
   }
   return all;
@@ -226,7 +225,7 @@ Loops Brush::footprint(const MeshOptions& opt) const {
 
 double Brush::footprint_area(const MeshOptions& opt) const {
   double area = 0.0;
-  for (int k : tufts()) area += loops_area(footprint_loops(sweep_surface(sections(k), opt)));
+  for (int k : tufts()) area += loops_area(footprint_of(sections(k), opt));
   return area;
 }
 

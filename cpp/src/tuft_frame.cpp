@@ -44,23 +44,26 @@ bool same_sections(const std::vector<Section>& a, const std::vector<Section>& b)
 
 }  // namespace
 
-Loops core_footprint(const std::vector<Section>& sections) {
+Loops footprint_of(const std::vector<Section>& sections, const MeshOptions& opt) {
   // the last few asked for, kept (one a tuft): a frame's footprint is asked for by the writer that
   // measures it and again by the paper's ledger that spends the ink
   struct Kept {
     std::vector<Section> sections;
+    MeshOptions opt;
     Loops loops;
   };
-  constexpr std::size_t kKept = 4;
+  constexpr std::size_t kKept = 8;
   thread_local std::vector<Kept> kept;
   for (const Kept& k : kept)
-    if (same_sections(k.sections, sections)) return k.loops;
-  Loops loops = footprint_loops(sweep_surface(sections, MeshOptions{}));
+    if (k.opt.rings_per_segment == opt.rings_per_segment && k.opt.around == opt.around &&
+        same_sections(k.sections, sections))
+      return k.loops;
+  Loops loops = footprint_loops(sweep_surface(sections, opt));
   if (kept.size() == kKept) kept.erase(kept.begin());
-  kept.push_back(Kept{sections, loops});
+  kept.push_back(Kept{sections, opt, loops});
   return loops;
 }
 
-Loops own_footprint(const TuftFrame& tuft) { return core_footprint(tuft.sections); }
+Loops own_footprint(const TuftFrame& tuft) { return footprint_of(tuft.sections); }
 
 }  // namespace brushwork

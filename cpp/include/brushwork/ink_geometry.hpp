@@ -31,8 +31,9 @@ struct SweepTolerance {
 // at the t an error estimate asks for (an interval is halved until its midpoint's footprint lies
 // within tol of the band between its ends, in eight directions; never finer than each near
 // vertex's move departing from a translation by 2 tol), the bands between them, each loop's
-// outline simplified to within tol (the distance a stroke's clean-up drops points by).  Loops in mm (outer loops counter-clockwise, holes
-// clockwise), overlapping: their union (winding > 0) is the region.
+// outline simplified to within tol (the distance a stroke's clean-up drops points by).  Loops in
+// mm (outer loops counter-clockwise, holes clockwise), overlapping: their union (winding > 0) is
+// the region.
 Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const SweepTolerance& tol, int* samples,
                       bool with_start = true);
 

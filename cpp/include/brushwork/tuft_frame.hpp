@@ -41,9 +41,9 @@ struct BrushFrame {
 // in units of its minor radius c_i (seed "Dry brush": the threshold varies with node pressure)
 std::vector<float> node_pressure(const std::vector<Section>& sections);
 
-// the footprint of these sections on the core's own mesh (MeshOptions{}); the last few are kept,
-// so a frame's footprint asked for twice (by the writer, by the ink's ledger) is cut once
-Loops core_footprint(const std::vector<Section>& sections);
+// the footprint loops of these sections swept into a mesh of `opt`; the last few are kept, so a
+// frame's footprint asked for twice (by the writer, by the ink's ledger) is cut once
+Loops footprint_of(const std::vector<Section>& sections, const MeshOptions& opt = MeshOptions{});
 
 // the tuft's footprint on the core's own mesh (MeshOptions{}), whatever a paper's resolution
 Loops own_footprint(const TuftFrame& tuft);
