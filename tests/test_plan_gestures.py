@@ -8,7 +8,7 @@ import pytest
 
 from brushwork.cli import main
 from brushwork.writing import Style
-from brushwork.writing.plan import Median, PlanError, corners_mm, sample, stroke_plan_from_json
+from brushwork.writing.plan import Median, PlanError, corners_mm, sample, smooth_polyline, stroke_plan_from_json
 from brushwork.writing.planned import InkGrid, PlanWriter
 from brushwork.writing.regions import REGIONS, stroke_tally
 
@@ -32,6 +32,49 @@ def test_a_median_has_a_corner_where_it_turns_sharply_and_none_on_a_gentle_arc()
     assert corners_mm(Median(ELL)) == pytest.approx([50.0], abs=0.3)
     arc = np.stack([50 + 40 * np.cos(np.linspace(0, 1.2, 40)), 50 + 40 * np.sin(np.linspace(0, 1.2, 40))], axis=1)
     assert len(corners_mm(Median(arc))) == 0
+
+
+def _turns_deg(p: np.ndarray) -> np.ndarray:
+    """Degrees the polyline p turns at each inner vertex (signed: left positive)."""
+    d = np.diff(p, axis=0)
+    return np.degrees(np.angle(np.exp(1j * np.diff(np.arctan2(d[:, 1], d[:, 0])))))
+
+
+def _distance_to(points: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """(len(points),) mm from each point to the polyline `line`."""
+    a, ab = line[:-1], np.diff(line, axis=0)
+    t = np.clip(np.einsum("pij,ij->pi", points[:, None] - a, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+    return np.min(np.hypot(*(a + t[..., None] * ab - points[:, None]).transpose(2, 0, 1)), axis=1)
+
+
+def test_a_coarse_median_of_a_curve_turns_smoothly_and_stays_on_its_points():
+    # five points of a circle of radius 30 mm, 30 deg apart: the polyline turns 30 deg at a vertex
+    a = np.radians(np.arange(0, 121, 30))
+    coarse = np.stack([50 + 30 * np.cos(a), 20 + 30 * np.sin(a)], axis=1)
+    med = Median(coarse)
+    curve = med.curve
+    assert np.array_equal(med.points, coarse)
+    # no facet: where the polyline turns 30 deg at once, the curve (points 0.2 mm apart) turns at
+    # most 2 deg from one point to the next, always the same way (each turn spread over a few mm)
+    assert _turns_deg(coarse).min() == pytest.approx(30.0)
+    assert _turns_deg(curve).min() > -1e-6 and _turns_deg(curve).max() < 2.0
+    # it keeps to the polyline: within 0.35 mm of every vertex, on the chords between them, its
+    # ends the polyline's and leaving along its end segments
+    assert _distance_to(coarse, curve).max() < 0.35
+    mid = np.hypot(curve[:, 0] - 50, curve[:, 1] - 20) < 30 * np.cos(np.radians(15)) + 0.05
+    assert _distance_to(curve[mid], coarse).max() < 0.05
+    assert np.array_equal(curve[[0, -1]], coarse[[0, -1]])
+    assert med.e0 == pytest.approx(med.t0, abs=0.01) and med.e1 == pytest.approx(med.t1, abs=0.01)
+
+
+def test_a_kink_of_the_median_stays_a_corner_and_a_straight_median_stays_straight():
+    curve = smooth_polyline(ELL)
+    corner = int(np.argmin(np.hypot(curve[:, 0] - 70, curve[:, 1] - 70)))
+    # both legs straight up to the corner: the L is not rounded off
+    assert np.abs(curve[:corner + 1, 1] - 70).max() < 1e-9
+    assert np.abs(curve[corner:, 0] - 70).max() < 1e-9
+    line = np.array([[0.0, 0.0], [10.0, 5.0], [30.0, 15.0]])
+    assert np.abs(smooth_polyline(line) @ np.array([0.5, -1.0])).max() < 1e-9
 
 
 def test_with_a_turn_the_root_runs_on_past_the_corner_and_without_it_cuts_across():

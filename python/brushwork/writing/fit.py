@@ -175,8 +175,8 @@ class _StrokeFrame:
         self.pts = np.stack([mm[:, 0] * ppm, (em_mm - mm[:, 1]) * ppm], axis=1)
         # in px (y down) the median's left normal (-sin, cos) flips its y
         self.normal = np.stack([-np.sin(head), -np.cos(head)], axis=1)
-        self.t0 = np.array([median.t0[0], -median.t0[1]])
-        self.t1 = np.array([median.t1[0], -median.t1[1]])
+        self.t0 = np.array([median.e0[0], -median.e0[1]])
+        self.t1 = np.array([median.e1[0], -median.e1[1]])
 
     def profile(self, mask: np.ndarray, reach_mm: float) -> Profile:
         return Profile(mask, self.pts, self.normal, self.t0, self.t1, reach_mm * self.ppm)

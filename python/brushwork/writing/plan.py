@@ -225,9 +225,55 @@ def load_plan(folder: str | Path, char: str, strokes: int | None = None) -> Glyp
     return GlyphPlan(char, plans, str(doc.get("style", "kai")), doc.get("iou"))
 
 
+SMOOTH_STEP_MM = 0.2    # mm between the points the median's curve is sampled at
+SMOOTH_SIGMA_MM = 1.5   # mm of arc its heading is smoothed over (Gaussian sigma) between corners
+
+
+def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
+    """a (n,) smoothed by a Gaussian of sigma samples, its end values held beyond its ends."""
+    r = int(math.ceil(3.0 * sigma))
+    if r < 1 or len(a) < 2:
+        return a
+    k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    return np.convolve(np.pad(a, r, mode="edge"), k / k.sum(), mode="valid")
+
+
+def _smooth_run(pts: np.ndarray, step_mm: float) -> np.ndarray:
+    """The polyline pts (k, 2) (no corner inside) resampled about step_mm apart with its heading
+    smoothed over SMOOTH_SIGMA_MM of arc and integrated again: its curvature continuous, its
+    straight runs straight, each vertex's turn spread over a few mm; pinned to both ends."""
+    u = np.r_[0.0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
+    n = max(int(math.ceil(u[-1] / step_mm)), 2)
+    uu = np.linspace(0.0, u[-1], n + 1)
+    dense = np.stack([np.interp(uu, u, pts[:, 0]), np.interp(uu, u, pts[:, 1])], axis=1)
+    d = np.diff(dense, axis=0)
+    heading = _lowpass(np.unwrap(np.arctan2(d[:, 1], d[:, 0])), SMOOTH_SIGMA_MM / (u[-1] / n))
+    ds = np.hypot(*d.T)[:, None]
+    walk = dense[0] + np.r_[np.zeros((1, 2)), np.cumsum(ds * np.stack([np.cos(heading), np.sin(heading)], axis=1), axis=0)]
+    # what the walk misses the far end by, taken out along the arc
+    return walk + (uu / u[-1])[:, None] * (dense[-1] - walk[-1])
+
+
+def smooth_polyline(pts: np.ndarray, step_mm: float = SMOOTH_STEP_MM) -> np.ndarray:
+    """The polyline pts (k, 2) mm as a curve whose heading turns smoothly (_smooth_run) between its
+    corners (vertices turning more than CORNER_DEG), which stay sharp: a root held ahead on the
+    median's tangent (the turn gesture) then swings round no vertex of a coarse median at once,
+    while a straight stroke stays straight and a 折 keeps its corner."""
+    if len(pts) < 3:
+        return pts
+    d = np.diff(pts, axis=0)
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    cut = np.flatnonzero(np.sum(d[:-1] * d[1:], axis=1) < math.cos(math.radians(CORNER_DEG))) + 1
+    ends = [0, *cut.tolist(), len(pts) - 1]
+    runs = [_smooth_run(pts[a:b + 1], step_mm) for a, b in zip(ends[:-1], ends[1:])]
+    return np.vstack([r[:-1] for r in runs] + [pts[-1:]])
+
+
 class Median:
-    """A stroke's median (k, 2) mm as a function of arc length u (mm), extended straight past its
-    ends; its heading smoothed over `smooth_mm`."""
+    """A stroke's median as a function of arc length u (mm): its points (k, 2) mm as a curve
+    (smooth_polyline: `curve`; `points` keeps them as given, t0 and t1 their end segments'
+    directions), extended straight past its ends along the curve's own end directions (e0, e1);
+    its heading smoothed over `smooth_mm`."""
 
     def __init__(self, points: np.ndarray, smooth_mm: float = 2.0):
         pts = np.asarray(points, dtype=float)
@@ -236,17 +282,20 @@ class Median:
         if len(pts) == 1:
             pts = np.vstack([pts, pts + [1e-3, 0.0]])
         self.points = pts
-        self.u = np.r_[0.0, np.cumsum(np.hypot(*np.diff(pts, axis=0).T))]
+        self.curve = smooth_polyline(pts)
+        self.u = np.r_[0.0, np.cumsum(np.hypot(*np.diff(self.curve, axis=0).T))]
         self.length = float(self.u[-1])
         d0, d1 = pts[1] - pts[0], pts[-1] - pts[-2]
         self.t0, self.t1 = d0 / np.linalg.norm(d0), d1 / np.linalg.norm(d1)
+        e0, e1 = self.curve[1] - self.curve[0], self.curve[-1] - self.curve[-2]
+        self.e0, self.e1 = e0 / np.linalg.norm(e0), e1 / np.linalg.norm(e1)
         self.smooth = smooth_mm
 
     def at(self, u: np.ndarray) -> np.ndarray:
         """(len(u), 2) mm: points at arc lengths u, straight on past the ends."""
         u = np.asarray(u, dtype=float)
-        p = np.stack([np.interp(u, self.u, self.points[:, 0]), np.interp(u, self.u, self.points[:, 1])], axis=1)
-        p += np.minimum(u, 0.0)[:, None] * self.t0 + np.maximum(u - self.length, 0.0)[:, None] * self.t1
+        p = np.stack([np.interp(u, self.u, self.curve[:, 0]), np.interp(u, self.u, self.curve[:, 1])], axis=1)
+        p += np.minimum(u, 0.0)[:, None] * self.e0 + np.maximum(u - self.length, 0.0)[:, None] * self.e1
         return p
 
     def heading(self, u: np.ndarray, smooth_mm: float | None = None) -> np.ndarray:
