@@ -26,9 +26,9 @@ from .regions import add_tally, stroke_tally
 from .style import brush_model
 from .style import Style, family
 
-FIT_PX = 256              # px of the grid the passes compare on
+FIT_PX = 512              # px of the grid the passes compare on (the fit's IoU is reported at 512 px too)
 SAMPLES = 24              # points along the median where widths are compared, at least
-SAMPLE_MM = 2.0           # ... and at most this far apart
+SAMPLE_MM = 1.0           # ... and at most this far apart
 PASSES = 10               # corrective passes a stroke
 MAX_PRESS_STEP = 0.08     # L: most press change a pass
 # frames half the style's step apart: the render sweeps straight between frames, and 1 mm frames
@@ -188,8 +188,9 @@ GESTURES = {"plain": ((6, 0.0), (6, -2.0)), "tapered": ((6, 0.0), (4, 3.0)), "fl
 
 
 def controls_count(length_mm: float) -> int:
-    """Control values a channel of a stroke this long: one each ~10 mm, 5..12."""
-    return int(np.clip(round(length_mm / 10.0) + 4, 5, 12))
+    """Control values a channel of a stroke this long: one each ~6 mm, 5..16 (fewer leave the
+    outline's swell and thinning along a long stroke unmatched)."""
+    return int(np.clip(round(length_mm / 6.0) + 4, 5, 16))
 
 
 def initial_plan(target: Profile, frame: _StrokeFrame, resp: Response, st: Style, kind: str) -> StrokePlan:
