@@ -519,6 +519,20 @@ def test_bench_glyphs_scores_and_writes_a_sheet(tmp_path):
         bench_glyphs.run("glyphs:" + str(Path(glyph_sources.bundled_dir())), size=32, count=1, progress=False)
 
 
+def test_bench_glyphs_measures_the_ink_render_makes_and_the_path_it_is_asked_for():
+    exact = bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, resolution=1)
+    gl = bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, resolution=0, ink="gl")
+    # kai is opaque: auto writes its ink as render does, through geometry, named in the table
+    assert exact["ink"] == "geometry" and gl["ink"] == "gl"
+    assert "ink geometry" in bench_glyphs.table(exact)
+    # the exact contours rasterised at 2x and 4x and averaged down are the same ink
+    assert all(a > 0.999 and b > 0.999 for _, a, b in exact["resolution"])
+    # both paths write the same character alike
+    assert exact["rows"][0]["iou"] == pytest.approx(gl["rows"][0]["iou"], abs=0.02)
+    with pytest.raises(ValueError, match="ink 'paint'"):
+        bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, ink="paint")
+
+
 def test_contact_sheet_with_and_without_a_reference_font(tmp_path):
     img = np.full((50, 50), 255, np.uint8)
     img[10:40, 20:30] = 0

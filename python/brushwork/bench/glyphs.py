@@ -24,6 +24,8 @@ from ..glyphs.score import PARTS, corner_count, edge_figures, error_by_part, has
 from ..writing.fit import ink_widths
 from ..writing.style import family
 from ..pool import Progress, parallel_map
+from ..paper import ink_path
+from ..scene import Scene
 from ..writing import Style, Writer, check_size, text_paper, writing_paper
 
 OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
@@ -31,8 +33,8 @@ OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 _JOB: dict = {}
 
 
-def _init(style: str, size: int, seed: int) -> None:
-    _JOB.update(style=Style.load(style), size=size, seed=seed)
+def _init(style: str, size: int, seed: int, ink: str = "auto") -> None:
+    _JOB.update(style=Style.load(style), size=size, seed=seed, ink=ink)
 
 
 def overlay(ink: np.ndarray, ref: np.ndarray) -> np.ndarray:
@@ -70,7 +72,7 @@ def _score(task: tuple) -> tuple:
     t0 = time.perf_counter()
     try:
         counts: dict = {}
-        paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], counts=counts)
+        paper = text_paper([glyph], _JOB["size"], _JOB["style"], _JOB["seed"], counts=counts, ink=_JOB["ink"])
         ink = paper.ink() > 0.5                                     # (size, size) bool, row 0 at top
         masks = stroke_masks(glyph, _JOB["size"])                  # one (size, size) bool per stroke
         ref = np.any(masks, axis=0)
@@ -123,26 +125,28 @@ def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
 
 
 def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
-        jobs: int = 1, sheet: str | None = None, progress: bool = True, resolution: int = 3) -> dict:
-    """Score the driver against the outlines of `source` (every character, or the first `count`);
-    the first `resolution` characters are written again at 2 and 4 times the size."""
+        jobs: int = 1, sheet: str | None = None, progress: bool = True, resolution: int = 3,
+        ink: str = "auto") -> dict:
+    """Score the driver against the outlines of `source` (every character, or the first `count`),
+    its ink made on the path `ink` picks for the style's scene (paper.ink_path; auto: as `brushwork
+    render` makes it); the first `resolution` characters are written again at 2 and 4 times the size."""
     size = check_size(size)
-    Style.load(style)
+    ink = ink_path(Scene(**Style.load(style).scene), ink)
     errors: list = []
     glyphs = _scorable(source, count, errors)
     rows, overlays, failed = {}, {}, [(getattr(e, "char", "?"), str(e)) for e in errors]
     t0 = time.perf_counter()
-    for char, score, secs, small, err in _scored(glyphs, jobs, (style, size, seed), progress):
+    for char, score, secs, small, err in _scored(glyphs, jobs, (style, size, seed, ink), progress):
         if err is None:
             rows[char], overlays[char] = dict(score, seconds=secs), small
         else:
             failed.append((char, err))
     wall = time.perf_counter() - t0
     order = [c for c in glyphs if c in rows]
-    result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs,
+    result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs, "ink": ink,
               "characters": len(order), "failed": failed, **_summary(rows, order),
               "chars_per_s": len(order) / wall if wall > 0 else None}
-    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:resolution]], size, style, seed)
+    result["resolution"] = resolution_agreement([glyphs[c] for c in order[:resolution]], size, style, seed, ink)
     if sheet:
         from ..sheet import Cell, contact_sheet
 
@@ -151,7 +155,7 @@ def run(source: str, size: int = 512, count: int | None = None, style: str = "ka
     return result
 
 
-def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list:
+def resolution_agreement(glyphs: list, size: int, style: str, seed: int, ink: str = "auto") -> list:
     """[[char, IoU at 2 size, IoU at 4 size], ...]: each glyph written at 2 and 4 times `size`,
     its ink downsampled (area average) to `size` and masked at 0.5, against its ink written at
     `size` (the output size should only sample the scene)."""
@@ -161,8 +165,8 @@ def resolution_agreement(glyphs: list, size: int, style: str, seed: int) -> list
     for glyph in glyphs:
         masks = []
         for k in (1, 2, 4):
-            ink = text_paper([glyph], size * k, style, seed).ink().astype(np.float32)
-            masks.append(cv2.resize(ink, (size, size), interpolation=cv2.INTER_AREA) > 0.5)
+            cover = text_paper([glyph], size * k, style, seed, ink=ink).ink().astype(np.float32)
+            masks.append(cv2.resize(cover, (size, size), interpolation=cv2.INTER_AREA) > 0.5)
         rows.append([glyph.char, iou(masks[1], masks[0]), iou(masks[2], masks[0])])
     return rows
 
@@ -270,7 +274,7 @@ def _error_by_part(per_char: list) -> dict:
 
 def table(result: dict) -> str:
     lines = [f"bench glyphs: {result['characters']} characters of {result['source']} at {result['size']} px, "
-             f"style {result['style']}, seed {result['seed']}",
+             f"style {result['style']}, seed {result['seed']}, ink {result['ink']}",
              "",
              "| ink IoU against the outlines | value |",
              "|---|---|",
@@ -374,6 +378,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--sheet", metavar="FILE", default="glyphs_sheet.png",
                    help="contact sheet of overlays (default glyphs_sheet.png; '' for none)")
     p.add_argument("--json", metavar="FILE", help="also write the result as JSON to FILE")
+    p.add_argument("--ink", choices=("auto", "geometry", "gl"), default="auto",
+                   help="how the ink is made, as for render: auto (the default: geometry for an opaque style), "
+                        "geometry or gl")
     p.add_argument("--resolution", type=int, default=3, metavar="N",
                    help="characters written again at 2 and 4 times the size, their ink compared (default 3; 0: none)")
 
@@ -385,5 +392,6 @@ def handle(args: argparse.Namespace) -> int:
         check_writable(args.sheet)
     source = args.source or f"mmah:{outlines_path()}"
     return run_benchmark("glyphs", args, lambda: run(source, args.size, args.count, args.style, args.seed,
-                                                     args.jobs, args.sheet or None, resolution=args.resolution),
+                                                     args.jobs, args.sheet or None, resolution=args.resolution,
+                                                     ink=args.ink),
                          table)
