@@ -169,3 +169,33 @@ def test_a_learned_hand_hands_each_strokes_ink_to_the_caller_as_the_driver_does(
     assert len(images) == len(glyph.strokes)
     inked = [int((np.asarray(im).min(axis=-1) < 128).sum()) for im in images]
     assert all(n > 0 for n in inked), inked
+
+
+def test_a_fit_stopped_by_sigterm_ends_as_ctrl_c_does_and_resumes(tmp_path):
+    """SIGTERM to `brushwork fit` with worker processes: the pool stopped with its workers, no
+    traceback from any of them, exit 130; the plans written are whole and a rerun skips them."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "plans"
+    cmd = [sys.executable, "-m", "brushwork", "fit", "--chars", "凡和它明永", "--source", SOURCE, "--out", str(out),
+           "--jobs", "2", "--no-progress"]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while not list(out.glob("U+*.json")) and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    stdout, stderr = proc.communicate(timeout=60)
+    assert proc.returncode == 130, stdout + stderr
+    assert "Traceback" not in stderr and stderr.strip().splitlines()[-1] == "brushwork: interrupted"
+    done = sorted(out.glob("U+*.json"))
+    assert 1 <= len(done) < 5
+    for path in done:                                 # every plan there reads back
+        char = chr(int(path.stem[2:], 16))
+        assert len(load_plan(out, char).strokes) == len(load_source(SOURCE, char)[char].strokes)
+    rerun = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=300)
+    assert rerun.returncode == 0 and f"({len(done)} already fitted)" in rerun.stdout

@@ -31,7 +31,9 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import signal
 import sys
+import threading
 from typing import NamedTuple
 
 
@@ -126,9 +128,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Parse `argv` (default sys.argv[1:]), run the command, return its exit code."""
+    """Parse `argv` (default sys.argv[1:]), run the command, return its exit code. SIGTERM (a
+    scheduler's kill, `timeout`) ends a command as Ctrl-C does: worker pools stopped with their
+    workers, the summary printed, exit 130; a batch's, a fit's or a font's rerun resumes."""
     parser = build_parser()
+    main_thread = threading.current_thread() is threading.main_thread()
+    term = signal.signal(signal.SIGTERM, _interrupt) if main_thread else None
     try:
         args = parser.parse_args(argv)
         return int(args.handler(args))
@@ -143,6 +153,9 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("brushwork: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if term is not None:
+            signal.signal(signal.SIGTERM, term)
 
 
 def _one_line(exc: Exception) -> str:

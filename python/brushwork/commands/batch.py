@@ -39,14 +39,7 @@ def handle(args: argparse.Namespace) -> int:
         # the batch makes its --out folder anyway; made first, a sheet inside it checks as writable
         os.makedirs(args.out, exist_ok=True)
         check_writable(args.sheet)
-    # a batch stopped by SIGTERM (a scheduler's kill, `timeout`) ends like Ctrl-C: workers stopped,
-    # the summary printed; finished files are whole (atomic writes) and a rerun resumes
-    import signal
-
-    def _stop(signum, frame):
-        raise KeyboardInterrupt
-
-    signal.signal(signal.SIGTERM, _stop)
+    # stopped by SIGTERM or Ctrl-C (cli.main), finished files are whole (atomic writes) and a rerun resumes
     res = batch.run_batch(chars, args.out, source=args.source, jobs=args.jobs, size=args.size, style=args.style,
                           seed=args.seed, bits=args.bits, background="transparent" if args.transparent else "white",
                           progress=not args.no_progress, samples=args.samples, executor=args.executor,

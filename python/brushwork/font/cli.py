@@ -61,12 +61,6 @@ def handle(args: argparse.Namespace) -> int:
     chars = parse_charset(args.chars) if args.chars is not None else read_charset(args.charset)
     if not chars:
         raise ValueError("no characters to build a font of")
-    import signal
-
-    def _stop(signum, frame):
-        raise KeyboardInterrupt
-
-    signal.signal(signal.SIGTERM, _stop)
     info = FontInfo(family=args.family, version=args.font_version, licence=args.licence,
                     licence_url=args.licence_url, copyright=args.copyright, vendor_url=args.vendor_url)
     res = build_font(chars, args.output, source=args.source, style=args.style, seed=args.seed, size=args.size,
