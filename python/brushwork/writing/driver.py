@@ -26,6 +26,7 @@ from ..brush import Brush, Pose
 from ..glyphs.score import beaded
 from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
+from .plan import lowpass
 from .style import Style, family
 from .targets import _centroid_and_width, joins, stroke_targets
 
@@ -470,20 +471,6 @@ class _Aim:
         return self.ending_at(j) and j + 1 < len(self.path) and w[j + 1] < w[j]
 
 
-def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
-    """(m, ...) values along a stroke's frames convolved with a Gaussian of `sigma` frames
-    along the first axis, the ends held."""
-    if sigma <= 0.0 or len(a) < 2:
-        return a.copy()
-    r = int(math.ceil(3.0 * sigma))
-    kernel = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
-    kernel /= kernel.sum()
-    padded = a[np.clip(np.arange(-r, len(a) + r), 0, len(a) - 1)]
-    flat = padded.reshape(len(padded), -1)
-    return np.stack([np.convolve(flat[:, k], kernel, mode="valid") for k in range(flat.shape[1])],
-                    axis=1).reshape(a.shape)
-
-
 def _ramp(m: int, sigma: float) -> np.ndarray:
     """(m,) 0 at a travel's first frame rising to 1 over ~sigma frames: the travel starts where
     the come-down left the brush, and a plan's changes fade in from there."""
@@ -492,7 +479,7 @@ def _ramp(m: int, sigma: float) -> np.ndarray:
 
 def _pinned(a: np.ndarray, sigma: float) -> np.ndarray:
     """`a` (m, ...) low-passed (`sigma` frames), its first frame kept (faded in by _ramp)."""
-    smooth = _lowpass(a, sigma)
+    smooth = lowpass(a, sigma)
     ramp = _ramp(len(a), sigma).reshape((-1,) + (1,) * (a.ndim - 1))
     return smooth + (1.0 - ramp) * (a[:1] - smooth[:1])
 
@@ -564,6 +551,6 @@ class _Plan:
         sigma = st.plan_sigma_mm / st.step_mm
         m = len(rel)
         ramp = _ramp(m, sigma)
-        root = self.root[:m] + st.plan_position_gain * ramp[:, None] * _lowpass(pos, sigma)
-        press = np.clip(self.press[:m] + st.plan_press_gain * ramp * _lowpass(rel, sigma), 0.0, PRESS_MAX)
+        root = self.root[:m] + st.plan_position_gain * ramp[:, None] * lowpass(pos, sigma)
+        press = np.clip(self.press[:m] + st.plan_press_gain * ramp * lowpass(rel, sigma), 0.0, PRESS_MAX)
         return _Plan(root, press)

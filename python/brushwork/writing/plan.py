@@ -229,13 +229,18 @@ SMOOTH_STEP_MM = 0.2    # mm between the points the median's curve is sampled at
 SMOOTH_SIGMA_MM = 1.5   # mm of arc its heading is smoothed over (Gaussian sigma) between corners
 
 
-def _lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
-    """a (n,) smoothed by a Gaussian of sigma samples, its end values held beyond its ends."""
+def lowpass(a: np.ndarray, sigma: float) -> np.ndarray:
+    """(m, ...) values along a stroke (its frames, or points of its median) convolved with a
+    Gaussian of `sigma` samples along the first axis, the ends held."""
+    if sigma <= 0.0 or len(a) < 2:
+        return a.copy()
     r = int(math.ceil(3.0 * sigma))
-    if r < 1 or len(a) < 2:
-        return a
-    k = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
-    return np.convolve(np.pad(a, r, mode="edge"), k / k.sum(), mode="valid")
+    kernel = np.exp(-0.5 * (np.arange(-r, r + 1) / sigma) ** 2)
+    kernel /= kernel.sum()
+    padded = a[np.clip(np.arange(-r, len(a) + r), 0, len(a) - 1)]
+    flat = padded.reshape(len(padded), -1)
+    return np.stack([np.convolve(flat[:, k], kernel, mode="valid") for k in range(flat.shape[1])],
+                    axis=1).reshape(a.shape)
 
 
 def _smooth_run(pts: np.ndarray, step_mm: float) -> np.ndarray:
@@ -247,7 +252,7 @@ def _smooth_run(pts: np.ndarray, step_mm: float) -> np.ndarray:
     uu = np.linspace(0.0, u[-1], n + 1)
     dense = np.stack([np.interp(uu, u, pts[:, 0]), np.interp(uu, u, pts[:, 1])], axis=1)
     d = np.diff(dense, axis=0)
-    heading = _lowpass(np.unwrap(np.arctan2(d[:, 1], d[:, 0])), SMOOTH_SIGMA_MM / (u[-1] / n))
+    heading = lowpass(np.unwrap(np.arctan2(d[:, 1], d[:, 0])), SMOOTH_SIGMA_MM / (u[-1] / n))
     ds = np.hypot(*d.T)[:, None]
     walk = dense[0] + np.r_[np.zeros((1, 2)), np.cumsum(ds * np.stack([np.cos(heading), np.sin(heading)], axis=1), axis=0)]
     # what the walk misses the far end by, taken out along the arc
