@@ -188,17 +188,38 @@ void pair_bands(const Loops& a, const Loops& b, Loops& out) {
 // the path of each footprint's rightmost point across the move, then back along the path of
 // their leftmost points.  For a footprint that translates this, with the two ends, is the sweep
 // exactly (the sides of a translated region are the paths of its support points); the blends'
-// count keeps the motion close enough to a translation between two of them
-void support_band(const std::vector<Loops>& loops, const Eigen::Vector2d& dir, Loops& out) {
+// count keeps the motion close enough to a translation between two of them.  Where the footprint
+// turns back along `dir` the band would fold over itself and its two lobes wind against each other
+// (the union keeps only the counter-clockwise one), so the band is cut there into pieces that
+// each move one way, and the footprint where it turns (its cap, which no band covers) is kept
+void support_band(const std::vector<Loops>& loops, const Eigen::Vector2d& dir, double tol_mm, Loops& out) {
   std::vector<Eigen::Vector2d> right, left;
   for (const Loops& ls : loops) {
     const auto [r, l] = support(ls.front(), dir);
     right.push_back(r);
     left.push_back(l);
   }
-  std::vector<Eigen::Vector2d> pts(right);
-  pts.insert(pts.end(), left.rbegin(), left.rend());
-  out.push_back(ccw_polygon(pts));
+  // the sense in which the quad between blends k and k + 1 winds: + forward along dir, - back; a
+  // step of less than tol either way keeps the sense before it (its fold is within tol)
+  auto step = [&](std::size_t k) { return 0.5 * (right[k + 1] + left[k + 1] - right[k] - left[k]).dot(dir); };
+  auto piece = [&](std::size_t a, std::size_t b) {  // the band from blend a to blend b
+    std::vector<Eigen::Vector2d> pts(right.begin() + a, right.begin() + b + 1);
+    pts.insert(pts.end(), left.rbegin() + (left.size() - 1 - b), left.rend() - a);
+    out.push_back(ccw_polygon(pts));
+  };
+  std::size_t a = 0;
+  int sense = 0;
+  for (std::size_t k = 0; k + 1 < loops.size(); ++k) {
+    const double s = step(k);
+    const int now = s > tol_mm ? 1 : s < -tol_mm ? -1 : sense;
+    if (sense != 0 && now != sense) {
+      piece(a, k);
+      out.push_back(loops[k].front());
+      a = k;
+    }
+    sense = now;
+  }
+  piece(a, loops.size() - 1);
 }
 
 // the points of a closed loop a Douglas-Peucker pass keeps: every dropped point lies within eps
@@ -324,7 +345,7 @@ std::vector<Blend> adaptive_blends(NearPart& p, Loops l0, Loops l1, int K, const
 // first and last footprints (where it starts or ends on the way) and the support band across
 // its move; between blends of several loops, each loop's band to the nearest loop of the next,
 // and every such footprint on the way
-void blend_bands(const std::vector<Blend>& bs, Loops& out) {
+void blend_bands(const std::vector<Blend>& bs, double tol_mm, Loops& out) {
   const std::size_t n = bs.size();
   for (std::size_t i = 0; i < n;) {
     if (bs[i].loops.size() != 1) {
@@ -344,7 +365,7 @@ void blend_bands(const std::vector<Blend>& bs, Loops& out) {
     if (j > i) {
       std::vector<Loops> run;
       for (std::size_t k = i; k <= j; ++k) run.push_back(bs[k].loops);
-      support_band(run, move.norm() > kStill ? move.normalized() : Eigen::Vector2d(1.0, 0.0), out);
+      support_band(run, move.norm() > kStill ? move.normalized() : Eigen::Vector2d(1.0, 0.0), tol_mm, out);
     }
     i = j + 1;
   }
@@ -373,7 +394,7 @@ Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const Swe
   // the footprints at the blends the error estimate asks for and the bands between them
   const std::vector<Blend> bs = adaptive_blends(p, std::move(l0), std::move(l1), K, tol);
   if (samples != nullptr) *samples = static_cast<int>(bs.size()) - 1;
-  blend_bands(bs, out);
+  blend_bands(bs, tol.tol_mm, out);
   // points within tol of their chord go, as the stroke's clean-up drops them (clip::clean)
   return simplified(std::move(out), tol.tol_mm);
 }
