@@ -79,11 +79,12 @@ def _score(task: tuple) -> tuple:
         small = cv2.resize(overlay(ink, ref), (OVERLAY_PX, OVERLAY_PX), interpolation=cv2.INTER_AREA)
         pen = round_pen_mask(glyph, _JOB["size"])
         extra, specks = pieces(ink, ref)
+        em_mm = _JOB["style"].em_mm
         scores = {"iou": iou(ink, ref), "round_pen_iou": iou(pen, ref), "extra_pieces": extra, "specks": specks,
                   "error_by_part": error_by_part(glyph, ink, masks), "broken_strokes": counts["breaks"],
                   "frames": counts["frames"], "held_frames": counts["holds"], "beads": counts["beads"],
                   "solver": counts["solver"], "excess_corners": corner_count(ink) - corner_count(ref),
-                  "ink_beads": ink_beads(glyph, ink, masks), "outline_beads": ink_beads(glyph, ref, masks),
+                  "ink_beads": ink_beads(glyph, ink, masks, em_mm), "outline_beads": ink_beads(glyph, ref, masks, em_mm),
                   **_edges(ink, ref, pen)}
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
@@ -93,15 +94,16 @@ def _score(task: tuple) -> tuple:
 BEAD_END = 0.15        # the last 15% of a stroke's median
 
 
-def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray]) -> dict:
-    """Beads counted on the ink: family -> [strokes whose last BEAD_END of the median is wider in
-    the ink than the ink's median width over the middle (s 0.25..0.75), strokes]. Widths are taken
-    across the median where no other stroke's outline covers it (a join or crossing is not a bead)."""
+def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray], em_mm: float = 100.0) -> dict:
+    """Beads counted on the ink (an em box em_mm wide): family -> [strokes whose last BEAD_END of
+    the median is wider in the ink than the ink's median width over the middle (s 0.25..0.75),
+    strokes]. Widths are taken across the median where no other stroke's outline covers it (a
+    join or crossing is not a bead)."""
     out: dict = {}
     size = ink.shape[0]
     for k, stroke in enumerate(glyph.strokes):
         others = np.any([m for i, m in enumerate(masks) if i != k], axis=0) if len(masks) > 1 else np.zeros_like(ink)
-        s, width, covered = ink_widths(ink, stroke.points, size, others)
+        s, width, covered = ink_widths(ink, stroke.points, size, others, em_mm)
         mid = width[(s >= 0.25) & (s <= 0.75) & ~covered]
         end = width[(s >= 1.0 - BEAD_END) & ~covered]
         tally = out.setdefault(family(stroke.kind), [0, 0])

@@ -166,9 +166,9 @@ def _reach(mask: np.ndarray, p: np.ndarray, d: np.ndarray, far: float) -> float:
 class _StrokeFrame:
     """A median's sample points, normals and end tangents in a grid's px (row 0 at the top)."""
 
-    def __init__(self, median: Median, ppm: float, em_mm: float):
+    def __init__(self, median: Median, ppm: float, em_mm: float, step_mm: float = SAMPLE_MM):
         self.median, self.ppm = median, ppm
-        n = max(SAMPLES, int(median.length / SAMPLE_MM) + 1)
+        n = max(SAMPLES, int(median.length / step_mm) + 1)
         self.a = np.linspace(0.0, median.length, n)                             # mm along the median
         mm = median.at(self.a)
         head = median.heading(self.a)
@@ -338,16 +338,13 @@ def _changed(plan: StrokePlan, what: str, by: float) -> StrokePlan:
     return _bounded(new)
 
 
-def ink_widths(ink: np.ndarray, points_em: np.ndarray, size: int, covered_by: np.ndarray) -> tuple:
-    """The ink's width across a stroke's median (em points, y up) on a (size, size) mask, every
-    px along it: (s (n,), width px (n,) NaN where the ink misses the median, (n,) bool: the median
-    point lies in `covered_by`)."""
-    med = Median(np.asarray(points_em, dtype=float) * size)
-    frame = _StrokeFrame(med, 1.0, float(size))
-    frame.a = np.linspace(0.0, med.length, max(2, int(med.length) + 1))
-    mm = med.at(frame.a)
-    head = med.heading(frame.a)
-    frame.pts = np.stack([mm[:, 0], size - mm[:, 1]], axis=1)
-    frame.normal = np.stack([-np.sin(head), -np.cos(head)], axis=1)
-    prof = frame.profile(ink, 0.1 * size)
+def ink_widths(ink: np.ndarray, points_em: np.ndarray, size: int, covered_by: np.ndarray,
+               em_mm: float = 100.0) -> tuple:
+    """The ink's width across a stroke's median (em points, y up) on a (size, size) mask of an em
+    box em_mm wide, every px along it: (s (n,), width px (n,) NaN where the ink misses the
+    median, (n,) bool: the median point lies in `covered_by`). The median is followed as the
+    writing follows it, in mm (its smoothing is in mm)."""
+    med = Median(np.asarray(points_em, dtype=float) * em_mm)
+    frame = _StrokeFrame(med, size / em_mm, em_mm, step_mm=em_mm / size)
+    prof = frame.profile(ink, 0.1 * em_mm)
     return frame.a / max(med.length, 1e-9), prof.width, _lookup(covered_by, frame.pts)
