@@ -68,6 +68,63 @@ def test_the_ink_grid_fills_a_pressed_drag_as_wide_as_the_footprint():
     assert ink[:, int(0.95 * 256):].sum() == 0              # nothing past the stroke's end and lift
 
 
+class _ShapeSink:
+    """A sink that keeps the tuft's root and shape (its joints relative to the root) at every deposit."""
+
+    def __init__(self):
+        self.shapes, self.roots = [], []
+
+    def deposit(self, brush):
+        joints = np.asarray(brush.skeleton(), dtype=float)
+        self.shapes.append(joints - joints[0])
+        self.roots.append(joints[0])
+        return type("Stats", (), {"contact": True})()
+
+    def end_stroke(self):
+        pass
+
+
+def _snap_writer():
+    """A writer whose kai-learned tuft is pressed 0.3 L and dragged 6 mm, bent behind its root."""
+    from brushwork.brush import Pose
+    from brushwork.recorded import root_height
+
+    writer = PlanWriter(Style.load("kai-learned"), None)
+    writer.sink = _ShapeSink()
+    z = root_height(writer.brush.model, 15.0, 0.3)
+    for k in range(30):
+        writer._step(Pose((20.0 + 0.2 * k, 50.0, z), 15.0, 0.0))
+    return writer, z
+
+
+def test_a_frame_in_which_the_tuft_snaps_is_written_in_substeps():
+    """Lifted 0.1 L in one frame, the dragged tuft springs back: its joints move millimetres
+    relative to its root. Written whole, the ink between the two frames would be a linear blend of
+    the bent and the sprung shape; split, the frame is solved again at poses evenly between the two
+    (one a SNAP_MM of that jump) and each solved shape deposited, the last at the frame's pose; it
+    stays one frame."""
+    from brushwork.brush import Pose
+    from brushwork.writing.planned import MAX_SUBSTEPS, SNAP_MM
+
+    whole, z = _snap_writer()
+    split, _ = _snap_writer()
+    lift = Pose((25.8, 50.0, z + 0.1 * whole.L), 15.0, 0.0)
+    whole._step(lift, split=False)
+    split._step(lift, split=True)
+    jump = float(np.max(np.linalg.norm(whole.sink.shapes[-1] - whole.sink.shapes[-2], axis=1)))
+    assert jump > 2.0 * SNAP_MM, jump
+    k = min(math.ceil(jump / SNAP_MM), MAX_SUBSTEPS)
+    assert len(whole.sink.roots) == 31 and len(split.sink.roots) == 30 + k
+    heights = np.array(split.sink.roots[29:])[:, 2]
+    assert np.allclose(np.diff(heights), 0.1 * whole.L / k), heights
+    assert np.allclose(split.sink.roots[-1], lift.position)
+    assert split.frames == whole.frames == 31
+    # a small change is written whole
+    calm, _ = _snap_writer()
+    calm._step(Pose((26.0, 50.0, z), 15.0, 0.0), split=True)
+    assert len(calm.sink.roots) == 31
+
+
 def test_fit_writes_resumable_plans_that_render_close_to_the_outlines(tmp_path, capsys):
     out = tmp_path / "plans"
     assert main(["fit", "--chars", "凡它", "--source", SOURCE, "--out", str(out), "--no-progress"]) == 0

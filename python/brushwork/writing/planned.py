@@ -18,6 +18,13 @@ from .style import Style
 
 TRAVEL_STEP_MM = 4.0      # mm the root moves a frame in the air between strokes
 TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
+# A frame in which the tuft changes its shape by more than SNAP_MM (a joint's move relative to the
+# root's) is solved again in up to MAX_SUBSTEPS even substeps, each deposited. Between two frames
+# the ink is swept along a linear blend of their surfaces, which follows a tuft that bends a little,
+# not one that snaps (a spread belly springing back as the press eases, a tail flicking round): a
+# blend of the two shapes pinches in the middle, a neck and a bead at a stroke's exit
+SNAP_MM = 1.0
+MAX_SUBSTEPS = 8
 _SHIFT = 4                # cv2.fillPoly fixed-point bits
 
 
@@ -67,6 +74,14 @@ class InkGrid:
         return (self.mask | self.stroke).astype(bool)
 
 
+def _between(a: Pose, b: Pose, t: float) -> Pose:
+    """The pose a fraction t of the way from a to b (the azimuth the short way round)."""
+    pa, pb = np.asarray(a.position, dtype=float), np.asarray(b.position, dtype=float)
+    turn = (b.azimuth_deg - a.azimuth_deg + 180.0) % 360.0 - 180.0
+    return Pose(tuple(pa + (pb - pa) * t), a.tilt_deg + (b.tilt_deg - a.tilt_deg) * t,
+                a.azimuth_deg + turn * t, a.twist_deg + (b.twist_deg - a.twist_deg) * t)
+
+
 class PlanWriter:
     """Writes glyphs from plans with one brush, its state (bend, plasticity, ink) carried from
     stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid."""
@@ -77,6 +92,7 @@ class PlanWriter:
         self.brush = brush if brush is not None else Brush(style.model())
         self.L = self.brush.model.tuft_length
         self.frames = 0
+        self.pose: Pose | None = None      # the last frame's pose
 
     def medians_mm(self, glyph) -> list[Median]:
         """The glyph's medians in mm, the em box's bottom-left corner at `origin_mm`."""
@@ -94,9 +110,33 @@ class PlanWriter:
             self._step(Pose((p[0], p[1], z_air if j < n - 1 else to[2]), tilt, azimuth))
         self._end()
 
-    def _step(self, pose: Pose) -> bool:
-        self.brush.step(pose)
+    def _step(self, pose: Pose, split: bool = False) -> bool:
+        """One frame at `pose`, deposited; `split`: in substeps where the tuft snaps (SNAP_MM).
+        Returns whether the brush touched the paper."""
+        last, self.pose = self.pose, pose
         self.frames += 1
+        if not split or last is None:
+            self.brush.step(pose)
+            return self._deposit()
+        before, shape = self.brush.state().copy(), self._shape()
+        self.brush.step(pose)
+        jump = float(np.max(np.linalg.norm(self._shape() - shape, axis=1)))
+        k = min(math.ceil(jump / SNAP_MM), MAX_SUBSTEPS)
+        if k <= 1:
+            return self._deposit()
+        self.brush.set_state(before)
+        touched = False
+        for j in range(1, k + 1):
+            self.brush.step(_between(last, pose, j / k))
+            touched = self._deposit() or touched
+        return touched
+
+    def _shape(self) -> np.ndarray:
+        """(n, 3) mm: the tuft's joints relative to its root."""
+        joints = np.asarray(self.brush.skeleton(), dtype=float)
+        return joints - joints[0]
+
+    def _deposit(self) -> bool:
         return bool(self.sink.deposit(self.brush) if isinstance(self.sink, InkGrid)
                     else self.sink.deposit(self.brush).contact)
 
@@ -108,8 +148,14 @@ class PlanWriter:
         st = self.style
         f = sample(plan, median, self.L, st.step_mm, st.hover)
         self.travel(f.root[0], float(f.azimuth[0]), float(f.tilt[0]))
+        # the descent to the paper is written frame by frame (its tip's first touches are the
+        # plan's entry); from the travel's first frame on, a frame whose tuft snaps is split on a
+        # paper. An InkGrid fills the hull of two frames' footprints, which no blend pinches
+        landed = int(np.argmax(f.on)) if f.on.any() else len(f.on)
+        split = not isinstance(self.sink, InkGrid)
         for j in range(1, len(f.press)):
-            self._step(Pose(tuple(f.root[j]), float(f.tilt[j]), float(f.azimuth[j]), float(f.twist[j])))
+            pose = Pose(tuple(f.root[j]), float(f.tilt[j]), float(f.azimuth[j]), float(f.twist[j]))
+            self._step(pose, split=split and j > landed)
         if finish:
             self._end()
 
