@@ -10,6 +10,19 @@ from . import _core
 Pose = _core.Pose
 
 
+def lerp_angle(a: float, b: float, t: float) -> float:
+    """From angle a toward b (deg), a fraction t of the way, the short way round."""
+    return a + ((b - a + 180.0) % 360.0 - 180.0) * t
+
+
+def between(a: Pose, b: Pose, t: float) -> Pose:
+    """The pose a fraction t of the way from a to b: position and tilt straight, the azimuth and the
+    twist the short way round."""
+    pa, pb = np.asarray(a.position, dtype=float), np.asarray(b.position, dtype=float)
+    return Pose(tuple(pa + (pb - pa) * t), a.tilt_deg + (b.tilt_deg - a.tilt_deg) * t,
+                lerp_angle(a.azimuth_deg, b.azimuth_deg, t), lerp_angle(a.twist_deg, b.twist_deg, t))
+
+
 class Brush(_core.Brush):
     """One tuft of the Chu-Tai brush (a spine of n joints with lateral nodes and a swept surface).
 

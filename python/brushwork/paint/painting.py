@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .. import BrushModel
-from ..brush import Brush, Pose
+from ..brush import Brush, Pose, lerp_angle
 from ..paper import Paper
 from ..recorded import HOVER, PRESS_MAX, root_height
 from ..scene import Scene
@@ -117,12 +117,6 @@ def unite(a: Rect | None, b: Rect | None) -> Rect | None:
     if b is None or b[0] >= b[2] or b[1] >= b[3]:
         return a
     return (min(a[0], b[0]), min(a[1], b[1]), max(a[2], b[2]), max(a[3], b[3]))
-
-
-def _lerp_angle(a: float, b: float, t: float) -> float:
-    """From angle a toward b (deg) the short way round."""
-    d = (b - a + 180.0) % 360.0 - 180.0
-    return a + d * t
 
 
 class Painting:
@@ -232,7 +226,7 @@ class Painting:
         for k in range(1, n + 1):
             t = k / n
             sub = tuple(a[i] + (pose[i] - a[i]) * t for i in range(4)) + \
-                (_lerp_angle(a[4], pose[4], t), _lerp_angle(a[5], pose[5], t))
+                (lerp_angle(a[4], pose[4], t), lerp_angle(a[5], pose[5], t))
             rect = unite(rect, self._frame(pose if k == n else sub))
         self.stroke_rect = unite(self.stroke_rect, rect)
         return rect

@@ -12,7 +12,7 @@ import math
 import cv2
 import numpy as np
 
-from ..brush import Brush, Pose
+from ..brush import Brush, Pose, between
 from .plan import GlyphPlan, Median, StrokePlan, sample
 from .style import Style
 
@@ -74,14 +74,6 @@ class InkGrid:
         return (self.mask | self.stroke).astype(bool)
 
 
-def _between(a: Pose, b: Pose, t: float) -> Pose:
-    """The pose a fraction t of the way from a to b (the azimuth the short way round)."""
-    pa, pb = np.asarray(a.position, dtype=float), np.asarray(b.position, dtype=float)
-    turn = (b.azimuth_deg - a.azimuth_deg + 180.0) % 360.0 - 180.0
-    return Pose(tuple(pa + (pb - pa) * t), a.tilt_deg + (b.tilt_deg - a.tilt_deg) * t,
-                a.azimuth_deg + turn * t, a.twist_deg + (b.twist_deg - a.twist_deg) * t)
-
-
 class PlanWriter:
     """Writes glyphs from plans with one brush, its state (bend, plasticity, ink) carried from
     stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid."""
@@ -118,16 +110,16 @@ class PlanWriter:
         if not split or last is None:
             self.brush.step(pose)
             return self._deposit()
-        before, shape = self.brush.state().copy(), self._shape()
+        saved, shape = self.brush.state().copy(), self._shape()
         self.brush.step(pose)
         jump = float(np.max(np.linalg.norm(self._shape() - shape, axis=1)))
         k = min(math.ceil(jump / SNAP_MM), MAX_SUBSTEPS)
         if k <= 1:
             return self._deposit()
-        self.brush.set_state(before)
+        self.brush.set_state(saved)
         touched = False
         for j in range(1, k + 1):
-            self.brush.step(_between(last, pose, j / k))
+            self.brush.step(between(last, pose, j / k))
             touched = self._deposit() or touched
         return touched
 
