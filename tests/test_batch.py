@@ -418,6 +418,18 @@ def test_bench_batch_reports_a_rate_and_where_the_time_goes(tmp_path, capsys):
     assert "characters/s" in capsys.readouterr().out
 
 
+def test_bench_batch_compares_the_two_ink_paths_on_the_same_writing(tmp_path, capsys):
+    out = tmp_path / "batch.json"
+    assert run_cli("bench", "batch", "--source", MMAH, "--count", 2, "--size", 96, "--jobs", 1,
+                   "--ink", "geometry,gl", "--json", out) == 0
+    res = json.loads(out.read_text())
+    assert [r["ink"] for r in res["runs"]] == ["geometry", "gl"]
+    a = res["agreement"]
+    assert a["characters"] == 2 and 0.9 < a["iou_worst"] <= a["iou_mean"] <= 1.0
+    assert a["gl_only_px"] >= 0.0 and a["geometry_only_px"] >= 0.0
+    assert "inked both ways: IoU" in capsys.readouterr().out
+
+
 def test_batch_summary_lists_the_first_failures_and_points_to_the_file(tmp_path):
     res = batch.BatchResult(written=["永"], failed=[(chr(0x4E00 + k), "no glyph") for k in range(25)])
     path = batch.write_failures(res, tmp_path)

@@ -1,6 +1,8 @@
 """`brushwork bench batch`: characters per second of `brushwork batch` as a user runs it, on a
 sample of GB2312 characters spread evenly across the set (those the source has), at 1024 px with
-two jobs; then one process's frames timed to say where the time goes.
+two jobs; then one process's frames timed to say where the time goes.  With both ink paths
+(`--ink geometry,gl`) it also compares what they draw of the same writing: their IoU, and the ink
+only one of them has.
 
 The batch runs through the command line's entry point, which the caller hands in (`args.entry`):
 the benchmark measures the command, not a copy of it."""
@@ -22,6 +24,7 @@ from ..glyphs.charsets import gb2312
 from ..writing import Style, Writer, check_samples, check_size, writing_paper
 
 Entry = Callable[[list], int]
+AGREEMENT_CHARS = 12     # characters of the sample, spread over it, the two ink paths' rasters are compared on
 
 
 class _Timed:
@@ -97,6 +100,11 @@ def time_batch(entry: Entry, text: str, options: list) -> dict:
             "chars_per_s": written / seconds if seconds > 0 else 0.0}
 
 
+def _sample(chars: list, count: int) -> list:
+    """`count` of `chars` at even steps through them, each once."""
+    return list(dict.fromkeys(chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))))
+
+
 def run(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
         style: str = "kai", progress: bool = True, samples: int | None = None, ink: str = "auto") -> dict:
     """Characters per second of `brushwork batch` over `count` GB2312 characters spread evenly
@@ -108,9 +116,7 @@ def run(entry: Entry, source: str = "default", count: int = 200, size: int = 102
     have = load_source(source, pool, errors=errors)
     if not have:
         raise ValueError(f"{source}: none of GB2312's characters are in this source")
-    chars = list(have)
-    picked = [chars[int(i)] for i in np.linspace(0, len(chars) - 1, min(count, len(chars)))]
-    text = "".join(dict.fromkeys(picked))
+    text = "".join(_sample(list(have), count))
     options = ["--source", source, "--jobs", str(jobs), "--size", str(size), "--style", style]
     options += (["--samples", str(samples)] if samples else []) + ([] if progress else ["--no-progress"])
     res = time_batch(entry, text, options + ["--ink", ink])
@@ -167,11 +173,37 @@ def handle(args: argparse.Namespace) -> int:
                                                      args.style, samples=args.samples, inks=inks), tables)
 
 
+def ink_agreement(glyphs: list, size: int, style: str = "kai", samples: int | None = None) -> dict:
+    """The same writing of each of `glyphs` at `size` px inked by geometry and by the GL footprint
+    pass: the IoU of the two inks (at half coverage), mean and worst, and where they differ: the ink
+    only GL's raster has and the ink only the geometry's has, each in px per px of the geometry's
+    contour (a rim of that depth all round), mean over the characters."""
+    from ..glyphs.score import contours, iou
+    from ..writing import text_paper
+
+    rows = []
+    for glyph in glyphs:
+        geo, gl = (text_paper([glyph], size, style, samples=samples, ink=ink).ink() > 0.5 for ink in ("geometry", "gl"))
+        rim = max(float(sum(len(c) for c in contours(geo))), 1.0)
+        rows.append((iou(geo, gl), np.count_nonzero(gl & ~geo) / rim, np.count_nonzero(geo & ~gl) / rim))
+    r = np.array(rows, dtype=float).reshape(-1, 3)
+    return {"characters": len(rows), "iou_mean": float(r[:, 0].mean()), "iou_worst": float(r[:, 0].min()),
+            "gl_only_px": float(r[:, 1].mean()), "geometry_only_px": float(r[:, 2].mean())}
+
+
 def runs(entry: Entry, source: str = "default", count: int = 200, size: int = 1024, jobs: int = 2,
          style: str = "kai", progress: bool = True, samples: int | None = None, inks: tuple = ("gl",)) -> dict:
-    """run() once for each ink path of `inks`, in turn, in this one run."""
+    """run() once for each ink path of `inks`, in turn, in this one run; with both geometry and gl,
+    then the two inks of the same writing compared (ink_agreement) on AGREEMENT_CHARS of the sample."""
     out = [run(entry, source, count, size, jobs, style, progress, samples, ink) for ink in inks]
-    return out[0] if len(out) == 1 else {"runs": out}
+    if len(out) == 1:
+        return out[0]
+    result = {"runs": out}
+    if {"geometry", "gl"} <= {r["ink"] for r in out}:
+        have = load_source(source, gb2312(), errors=[])
+        chars = _sample(_sample(list(have), count), AGREEMENT_CHARS)
+        result["agreement"] = ink_agreement([have[c] for c in chars], size, style, samples)
+    return result
 
 
 def tables(result: dict) -> str:
@@ -182,4 +214,10 @@ def tables(result: dict) -> str:
     last = each[-1]
     ratios = [f"{r['ink']}: {r['chars_per_s'] / last['chars_per_s']:.2f}x {last['ink']}" for r in each[:-1]
               if last["chars_per_s"]]
-    return "\n\n".join(table(r) for r in each) + "\n\n" + "; ".join(ratios)
+    out = "\n\n".join(table(r) for r in each) + "\n\n" + "; ".join(ratios)
+    a = result.get("agreement")
+    if a:
+        out += (f"\n\nthe same writing of {a['characters']} characters inked both ways: IoU {a['iou_mean']:.4f} "
+                f"(worst {a['iou_worst']:.4f}); ink only the gl raster has {a['gl_only_px']:.2f} px, only the "
+                f"geometry's {a['geometry_only_px']:.2f} px (per px of contour)")
+    return out
