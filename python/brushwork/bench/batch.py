@@ -122,7 +122,7 @@ def run(entry: Entry, source: str = "default", count: int = 200, size: int = 102
     res = time_batch(entry, text, options + ["--ink", ink])
     parts = breakdown([have[c] for c in text[:4]], size, style, samples, ink)
     return {"source": source, "size": size, "jobs": jobs, "style": style, "samples": samples or "style's",
-            "ink": parts["ink"], **res,
+            "ink": parts["ink"], "text": text, **res,
             "gb2312_hours": len(pool) / res["chars_per_s"] / 3600.0 if res["chars_per_s"] else None,
             "breakdown": parts}
 
@@ -200,8 +200,8 @@ def runs(entry: Entry, source: str = "default", count: int = 200, size: int = 10
         return out[0]
     result = {"runs": out}
     if {"geometry", "gl"} <= {r["ink"] for r in out}:
-        have = load_source(source, gb2312(), errors=[])
-        chars = _sample(_sample(list(have), count), AGREEMENT_CHARS)
+        chars = _sample(list(out[0]["text"]), AGREEMENT_CHARS)
+        have = load_source(source, "".join(chars))
         result["agreement"] = ink_agreement([have[c] for c in chars], size, style, samples)
     return result
 
