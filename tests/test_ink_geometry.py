@@ -89,7 +89,7 @@ def test_the_swept_footprint_is_the_continuous_sweep(move):
     f = f.astype(np.int32)
     still, k = _core.swept_footprint(v0, v0, f)
     # a still tuft leaves its footprint, its outline simplified to within half the tolerance
-    fp = _core.union_loops(b.footprint(opt))
+    fp = _core.union_loops(_core.footprint_projection(v0, f))
     perimeter = sum(float(np.sum(np.linalg.norm(l - np.roll(l, 1, axis=0), axis=1))) for l in fp)
     assert k == 1 and abs(area(_core.union_loops(still)) - area(fp)) <= 0.5 * 0.005 * perimeter
     b.step(bw.Pose((20.0 + move[0], 20.0 + move[1], z1), 15, move[2]))
@@ -126,6 +126,70 @@ def test_a_tuft_that_springs_back_as_it_lifts_sweeps_its_whole_region():
     v1, _, _ = b.surface_mesh(opt)
     missed, extra, k = against_dense_sweep(v0, v1, f.astype(np.int32))
     assert missed <= 0.005 and extra <= 0.001, (k, missed, extra)
+
+
+def dragged_brush(frames=45):
+    """A small brush dragged along a straight line at a steady press 0.2 L, `frames` frames of 1 mm,
+    with kai's smoothed friction: its belly flattened, the lowest sections' widest points below
+    the paper."""
+    from brushwork.recorded import along_path
+
+    s = np.linspace(0.0, 1.0, 91)
+    model = bw.BrushModel.preset("small")
+    model.friction_smoothing = 0.5
+    b = bw.Brush(model)
+    for pose in along_path(model, np.c_[15.0 + 70.0 * s, 30.0 + 0.0 * s], 0.2 + 0.0 * s, step_mm=1.0)[:frames]:
+        b.step(pose)
+    return b
+
+
+def below_paper_raster(v, faces, px_per_mm, width, height):
+    """(height, width) bool: the pixel centres under some face's part below z = 0 (each face
+    clipped at the paper and filled), row 0 at the top as coverage() has it."""
+    import cv2
+
+    img = np.zeros((height, width), np.uint8)
+    for tri in v[faces]:
+        pts = []
+        for a, c in zip(tri, np.roll(tri, -1, axis=0)):
+            if a[2] < 0.0:
+                pts.append(a[:2])
+            if (a[2] < 0.0) != (c[2] < 0.0):
+                pts.append((a + a[2] / (a[2] - c[2]) * (c - a))[:2])
+        if len(pts) >= 3:
+            px = np.c_[np.array(pts)[:, 0] * px_per_mm - 0.5, height - np.array(pts)[:, 1] * px_per_mm - 0.5]
+            cv2.fillPoly(img, [np.round(px * 16).astype(np.int32)], 1, cv2.LINE_8, 4)
+    return img.astype(bool)
+
+
+def test_a_footprint_is_the_projection_of_the_part_below_the_paper():
+    """The seed's footprint is the orthogonal projection of the penetrating portion of the tuft
+    onto the paper. Dragged at a steady press the belly flattens until its sections' widest
+    points lie below the paper: the projection matches every face's part below the paper
+    filled, and reaches past the plane section (the contact polygon) by several percent."""
+    b = dragged_brush()
+    opt = VectorPaper(60, 40, 10).mesh_options(b.model)
+    v, f, _ = b.surface_mesh(opt)
+    f = f.astype(np.int32)
+    proj = _core.union_loops(_core.footprint_projection(v, f))
+    ppm, w, h = 100.0, 100 * 100, 60 * 100
+    got = _core.coverage(proj, ppm, w, h) > 0.5
+    ref = below_paper_raster(v, f, ppm, w, h)
+    assert np.count_nonzero(got & ref) / np.count_nonzero(got | ref) >= 0.99
+    assert area(proj) >= 1.05 * area(_core.union_loops(b.footprint(opt)))
+
+
+def test_both_papers_take_the_projected_footprint():
+    """One deposit of the dragged tuft: the geometry's ink and the GL footprint pass's agree in
+    area (both the projection of the part below the paper)."""
+    b = dragged_brush()
+    inks = {}
+    for ink in ("geometry", "gl"):
+        paper = make_paper(100, 60, 10, bw.Scene(samples=1), ink)
+        paper.deposit(b)
+        paper.end_stroke()
+        inks[ink] = float(paper.ink().sum())
+    assert abs(inks["geometry"] - inks["gl"]) <= 0.015 * inks["gl"], inks
 
 
 def test_a_long_move_wets_each_slid_copy_of_the_footprint_once():

@@ -53,6 +53,14 @@ pixel (i, j) covering [i, i+1] x [j, j+1] / px_per_mm mm; row 0 at the top.)doc"
   }, py::arg("last_vertices"), py::arg("vertices"), py::arg("faces"), py::arg("tolerance") = SweepTolerance(), R"doc(
 (loops, blends): the region a surface covers below z = 0 moving linearly from last_vertices to
 vertices (V, 3) mm over faces (F, 3), as overlapping loops whose union is the region.)doc");
+  m.def("footprint_projection", [](const Rows3& v, const Faces& faces) {
+    return footprint_projection(mesh_of(v, faces));
+  }, py::arg("vertices"), py::arg("faces"), R"doc(
+The footprint as the seed defines it: loops [(k, 2) mm] around the orthogonal projection onto the
+paper of the closed surface's part below z = 0 (vertices (V, 3) mm, faces (F, 3) outward); their
+union (winding > 0) is the region. It holds the plane section (Brush.footprint) and reaches past it
+where a section's widest points lie below the paper; its silhouette is where the vertex normals' z,
+interpolated over each face, is 0.)doc");
 }
 
 }  // namespace

@@ -494,6 +494,207 @@ std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
   return loops;
 }
 
+namespace {
+
+// One piece of the projection's outline: between two keyed points, unoriented unless
+// `directed` (a piece of the z = 0 crossing, oriented as crossing_segments orients it).
+struct Piece {
+  std::uint64_t a, b;
+  Vec2 pa, pb;
+  bool directed;
+};
+
+// keys of the three kinds of outline point: the z = 0 crossing on an edge, the s = 0 crossing on
+// an edge (s: the vertex normals' z, interpolated), and the point inside face f where both meet
+inline std::uint64_t z_key(int i, int j) { return edge_key(i, j) << 2; }
+inline std::uint64_t s_key(int i, int j) { return (edge_key(i, j) << 2) | 1; }
+inline std::uint64_t f_key(int f) { return (static_cast<std::uint64_t>(f) << 2) | 2; }
+
+// the point of edge (i, j) where the field w (per vertex) crosses 0, in (x, y), from the
+// canonical order so that both faces of the edge get it alike
+Vec2 field_cross(const SurfaceMesh& mesh, const std::vector<double>& w, int i, int j) {
+  if (i > j) std::swap(i, j);
+  const auto& Vx = mesh.vertices;
+  const double t = w[i] / (w[i] - w[j]);
+  return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
+}
+
+// The outline pieces of the projection of the part of the surface below the paper that faces
+// down, {z < 0} and {s < 0} with both fields linear over each face: on each face the z = 0
+// line where s < 0 and the s = 0 line (the silhouette seen from below) where z < 0, each cut
+// where the other field changes sign (the face's point f_key).
+std::vector<Piece> projection_pieces(const SurfaceMesh& mesh, const std::vector<double>& sz) {
+  const auto& Vx = mesh.vertices;
+  const int V = static_cast<int>(Vx.rows());
+  std::vector<double> z(static_cast<std::size_t>(V));
+  for (int v = 0; v < V; ++v) z[v] = Vx(v, 2);
+  auto neg = [](double x) { return x < 0.0; };
+  std::vector<Piece> out;
+  for (int f = 0; f < static_cast<int>(mesh.faces.rows()); ++f) {
+    const int v[3] = {mesh.faces(f, 0), mesh.faces(f, 1), mesh.faces(f, 2)};
+    const int zn = neg(z[v[0]]) + neg(z[v[1]]) + neg(z[v[2]]), sn = neg(sz[v[0]]) + neg(sz[v[1]]) + neg(sz[v[2]]);
+    if (zn == 0 || sn == 0) continue;   // wholly on or above the paper, or facing up all over
+    if (zn == 3 && sn == 3) continue;   // inside: below the paper and facing down all over
+    // the point where both lines meet, by barycentric coordinates (l1, l2) of the face
+    auto meet = [&]() {
+      const double z1 = z[v[1]] - z[v[0]], z2 = z[v[2]] - z[v[0]], s1 = sz[v[1]] - sz[v[0]], s2 = sz[v[2]] - sz[v[0]];
+      const double det = z1 * s2 - z2 * s1;
+      const double l1 = det != 0.0 ? (-z[v[0]] * s2 + z2 * sz[v[0]]) / det : 1.0 / 3.0;
+      const double l2 = det != 0.0 ? (-z1 * sz[v[0]] + s1 * z[v[0]]) / det : 1.0 / 3.0;
+      const double a = std::clamp(l1, 0.0, 1.0), b = std::clamp(l2, 0.0, 1.0 - a);
+      return Vec2((1 - a - b) * Vx(v[0], 0) + a * Vx(v[1], 0) + b * Vx(v[2], 0),
+                  (1 - a - b) * Vx(v[0], 1) + a * Vx(v[1], 1) + b * Vx(v[2], 1));
+    };
+    // the two edges of the face where field w changes sign, as (i, j) pairs; false if none
+    auto crossing_edges = [&](const std::vector<double>& w, int e[2][2]) {
+      int n = 0;
+      for (int k = 0; k < 3 && n < 2; ++k) {
+        const int i = v[k], j = v[(k + 1) % 3];
+        if (neg(w[i]) != neg(w[j])) e[n][0] = i, e[n][1] = j, ++n;
+      }
+      return n == 2;
+    };
+    // a line of field w (0 at its two edge crossings) kept where the other field u < 0: the
+    // whole, the part up to the meeting point, or nothing
+    auto line = [&](const std::vector<double>& w, const std::vector<double>& u, bool is_z) {
+      int e[2][2];
+      if (!crossing_edges(w, e)) return;
+      auto key = [&](int k) { return is_z ? z_key(e[k][0], e[k][1]) : s_key(e[k][0], e[k][1]); };
+      auto other = [&](int k) {  // u at the crossing of edge k, canonical order
+        int i = e[k][0], j = e[k][1];
+        if (i > j) std::swap(i, j);
+        const double t = w[i] / (w[i] - w[j]);
+        return u[i] + t * (u[j] - u[i]);
+      };
+      const Vec2 p0 = field_cross(mesh, w, e[0][0], e[0][1]), p1 = field_cross(mesh, w, e[1][0], e[1][1]);
+      const bool in0 = neg(other(0)), in1 = neg(other(1));
+      if (!in0 && !in1) return;
+      Piece pc{key(0), key(1), p0, p1, false};
+      if (!in1) pc.b = f_key(f), pc.pb = meet();
+      if (!in0) pc.a = f_key(f), pc.pa = meet();
+      if (is_z) {
+        // orient as crossing_segments: the lone vertex a, below: from edge (c, a) to edge (a, b)
+        const bool u0 = !neg(z[v[0]]), u1 = !neg(z[v[1]]), u2 = !neg(z[v[2]]);
+        const int lone = (u1 == u2) ? 0 : (u0 == u2) ? 1 : 2;
+        const int a = v[lone], b = v[(lone + 1) % 3], c = v[(lone + 2) % 3];
+        // lone vertex above: from the crossing on edge (a, b); below: from the one on (c, a)
+        const std::uint64_t from = !neg(z[a]) ? z_key(a, b) : z_key(c, a);
+        if (key(0) != from) std::swap(pc.a, pc.b), std::swap(pc.pa, pc.pb);
+        pc.directed = true;
+      }
+      out.push_back(pc);
+    };
+    line(z, sz, true);
+    line(sz, z, false);
+  }
+  return out;
+}
+
+// loops of pieces joined at their keys; a loop takes the direction of its first z = 0 piece
+// (counter-clockwise when it has none)
+std::vector<LoopMatrix> link_pieces(const std::vector<Piece>& pieces) {
+  // each piece at its two keys, in an open-addressed table of key -> the first of a chain of
+  // the pieces there (a key has two in a closed outline)
+  const std::size_t n = pieces.size();
+  std::size_t cap = 16;
+  while (cap < 4 * n) cap *= 2;
+  std::vector<std::uint64_t> keys(cap);
+  std::vector<int> head(cap, -1), next_at(2 * n, -1);
+  auto slot = [&](std::uint64_t key) {
+    std::size_t h = (key * 0x9E3779B97F4A7C15ULL) >> 20 & (cap - 1);
+    while (head[h] >= 0 && keys[h] != key) h = (h + 1) & (cap - 1);
+    return h;
+  };
+  for (std::size_t k = 0; k < n; ++k)
+    for (const int end : {0, 1}) {
+      const std::size_t h = slot(end ? pieces[k].b : pieces[k].a);
+      keys[h] = end ? pieces[k].b : pieces[k].a;
+      next_at[2 * k + end] = head[h];
+      head[h] = static_cast<int>(2 * k + end);
+    }
+  std::vector<char> used(n, 0);
+  auto other_at = [&](std::uint64_t key, int not_this) {
+    const std::size_t h = slot(key);
+    if (head[h] < 0) return -1;
+    for (int o = head[h]; o >= 0; o = next_at[o])
+      if (o / 2 != not_this && !used[o / 2]) return o / 2;
+    return -1;
+  };
+  std::vector<LoopMatrix> loops;
+  std::vector<Vec2> pts;
+  for (int k0 = 0; k0 < static_cast<int>(pieces.size()); ++k0) {
+    if (used[k0]) continue;
+    pts.clear();
+    int dir_votes = 0;
+    std::uint64_t start = pieces[k0].a, key = pieces[k0].b;
+    pts.push_back(pieces[k0].pa);
+    used[k0] = 1;
+    if (pieces[k0].directed) ++dir_votes;
+    bool closed = false;
+    for (int k = k0;;) {
+      const Piece& pc = pieces[k];
+      const bool forward = pc.a == key;   // entered at a, leaving at b
+      if (k != k0) {
+        pts.push_back(forward ? pc.pa : pc.pb);
+        if (pc.directed) dir_votes += forward ? 1 : -1;
+        key = forward ? pc.b : pc.a;
+      }
+      if (key == start) {
+        closed = true;
+        break;
+      }
+      const int next = other_at(key, k);
+      if (next < 0) break;
+      used[next] = 1;
+      k = next;
+    }
+    if (!closed) continue;
+    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= kSamePoint2) pts.pop_back();
+    if (pts.size() < 3) continue;
+    LoopMatrix m(static_cast<Eigen::Index>(pts.size()), 2);
+    for (std::size_t i = 0; i < pts.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
+    const bool reverse = dir_votes != 0 ? dir_votes < 0 : loops_area({m}) < 0.0;
+    if (reverse) m.colwise().reverseInPlace();
+    loops.push_back(std::move(m));
+  }
+  return loops;
+}
+
+}  // namespace
+
+std::vector<double> vertex_normal_z(const SurfaceMesh& mesh) {
+  const int V = static_cast<int>(mesh.vertices.rows());
+  const double* X = mesh.vertices.data();  // (V, 3) row-major
+  std::vector<double> n(3 * static_cast<std::size_t>(V), 0.0);
+  const int* t = mesh.faces.data();
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f, t += 3) {
+    const int a = t[0], b = t[1], c = t[2];
+    const double ux = X[3 * b] - X[3 * a], uy = X[3 * b + 1] - X[3 * a + 1], uz = X[3 * b + 2] - X[3 * a + 2];
+    const double vx = X[3 * c] - X[3 * a], vy = X[3 * c + 1] - X[3 * a + 1], vz = X[3 * c + 2] - X[3 * a + 2];
+    const double nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+    for (const int v : {a, b, c}) n[3 * v] += nx, n[3 * v + 1] += ny, n[3 * v + 2] += nz;
+  }
+  std::vector<double> out(static_cast<std::size_t>(V), 1.0);
+  for (int v = 0; v < V; ++v) {
+    const double len = std::sqrt(n[3 * v] * n[3 * v] + n[3 * v + 1] * n[3 * v + 1] + n[3 * v + 2] * n[3 * v + 2]);
+    if (len > 0.0) out[v] = n[3 * v + 2] / len;
+  }
+  return out;
+}
+
+std::vector<LoopMatrix> footprint_projection(const SurfaceMesh& mesh, const std::vector<double>& normal_z) {
+  if (normal_z.size() != static_cast<std::size_t>(mesh.vertices.rows()))
+    throw std::invalid_argument("footprint_projection: one normal z a vertex");
+  return link_pieces(projection_pieces(mesh, normal_z));
+}
+
+std::vector<LoopMatrix> footprint_projection(const SurfaceMesh& mesh) {
+  const int V = static_cast<int>(mesh.vertices.rows());
+  for (int f = 0; f < static_cast<int>(mesh.faces.rows()); ++f) check_face(f, &mesh.faces(f, 0), V);
+  return footprint_projection(mesh, vertex_normal_z(mesh));
+}
+
+
 FootprintSpan footprint_span(const std::vector<LoopMatrix>& loops, double heading) {
   // area centroid by the shoelace moments: A = 1/2 sum cross, C = 1/(6A) sum (p_i + p_j) cross
   FootprintSpan out;

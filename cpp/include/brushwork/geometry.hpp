@@ -48,6 +48,24 @@ SurfaceMesh sweep_surface(const std::vector<Section>& sections, const MeshOption
 std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> footprint_loops(
     const SurfaceMesh& mesh);
 
+// The footprint as the seed defines it ("the orthogonal projection of the penetrating portion
+// onto the paper plane"): closed loops around the projection of the mesh's part below z = 0, in
+// (x, y) mm, the region to the left of each (outer loops counter-clockwise).  Its outline is made
+// of two kinds of line, each found on every face as the z = 0 section is: the section itself
+// where the surface faces down, and the silhouette seen from below (where the vertex normals' z,
+// interpolated over the face, is 0) where the surface lies below the paper.  It holds the plane
+// section footprint_loops gives, and reaches past it where a section's widest points lie below
+// the paper (a flattened belly, a tip dragged along it).  Loops of two parts of the surface may
+// overlap; their union (positive fill) is the region.  Empty when nothing is below the paper.
+std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> footprint_projection(
+    const SurfaceMesh& mesh);
+// ... with the vertex normals' z given, one a vertex (a sweep blends its two ends' normals with
+// the vertices rather than summing them again at each blend)
+std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>> footprint_projection(
+    const SurfaceMesh& mesh, const std::vector<double>& normal_z);
+// the vertex normals' z (area-weighted over every face, normalised)
+std::vector<double> vertex_normal_z(const SurfaceMesh& mesh);
+
 // Sum of the signed (shoelace) areas of the loops, mm^2.
 double loops_area(
     const std::vector<Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>>& loops);

@@ -92,8 +92,13 @@ struct NearPart {
   std::vector<int> vertex;  // original index of each kept vertex
   SurfaceMesh mesh;         // the kept faces over the kept vertices
   Rows3 a, b;               // (kept, 3) the two ends
+  std::vector<double> sa, sb, s;  // the vertex normals' z at the two ends, and at the blend
 
-  void blend(double t) { mesh.vertices = (1.0 - t) * a + t * b; }
+  void blend(double t) {
+    mesh.vertices = (1.0 - t) * a + t * b;
+    s.resize(sa.size());
+    for (std::size_t v = 0; v < s.size(); ++v) s[v] = (1.0 - t) * sa[v] + t * sb[v];
+  }
 };
 
 NearPart near_part(const SurfaceMesh& last, const SurfaceMesh& cur) {
@@ -123,6 +128,10 @@ NearPart near_part(const SurfaceMesh& last, const SurfaceMesh& cur) {
   }
   p.mesh.faces = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
       faces.data(), static_cast<Eigen::Index>(faces.size() / 3), 3);
+  for (auto [ends, s] : {std::pair<const Rows3*, std::vector<double>*>{&p.a, &p.sa}, {&p.b, &p.sb}}) {
+    p.mesh.vertices = *ends;
+    *s = vertex_normal_z(p.mesh);
+  }
   return p;
 }
 
@@ -330,7 +339,7 @@ std::vector<Blend> adaptive_blends(NearPart& p, Loops l0, Loops l1, int K, const
     if ((todo.back().t - done.back().t) * K > 1.0 + 1e-9) {
       const double tm = 0.5 * (done.back().t + todo.back().t);
       p.blend(tm);
-      Blend m = make(tm, footprint_loops(p.mesh));
+      Blend m = make(tm, footprint_projection(p.mesh, p.s));
       const bool split = departure(done.back(), m, todo.back()) > tol.tol_mm;
       (split ? todo : done).push_back(std::move(m));
       if (split) continue;
@@ -385,9 +394,9 @@ Loops swept_footprint(const SurfaceMesh& last, const SurfaceMesh& cur, const Swe
   Loops out;
   if (K == 0) return out;
   p.blend(0.0);
-  Loops l0 = footprint_loops(p.mesh);
+  Loops l0 = footprint_projection(p.mesh, p.s);
   p.blend(1.0);
-  Loops l1 = footprint_loops(p.mesh);
+  Loops l1 = footprint_projection(p.mesh, p.s);
   // the two ends
   if (with_start) out = l0;
   out.insert(out.end(), l1.begin(), l1.end());
