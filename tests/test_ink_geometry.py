@@ -192,6 +192,22 @@ def test_both_papers_take_the_projected_footprint():
     assert abs(inks["geometry"] - inks["gl"]) <= 0.015 * inks["gl"], inks
 
 
+
+@pytest.mark.parametrize("char", "永和明")
+def test_a_character_written_both_ways_is_the_same_ink(char):
+    """kai's writing of a character at 512 px, inked by the geometry and by the GL footprint
+    pass: the two rasters overlap with IoU >= 0.99 (both draw the seed's projected footprint;
+    what is left is the GL pass's slides at a lift and its pixel sampling)."""
+    from pathlib import Path
+
+    from brushwork.glyphs import load_source
+    from brushwork.glyphs.score import iou
+    from brushwork.writing import text_paper
+
+    glyph = load_source(f"mmah:{Path(__file__).parent / 'data' / 'mmah' / 'graphics.txt'}", char)[char]
+    geometry, gl = (text_paper([glyph], 512, "kai", ink=ink).ink() > 0.5 for ink in ("geometry", "gl"))
+    assert iou(geometry, gl) >= 0.99
+
 def test_a_long_move_wets_each_slid_copy_of_the_footprint_once():
     """The wetted paper a deposit spends ink on is its footprint slid back along the move, 64
     copies at most: after a jump of 900 mm every copy lies apart, so the paper gains 64
