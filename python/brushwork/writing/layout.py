@@ -39,7 +39,7 @@ def check_seed(seed: int) -> int:
     return seed
 
 
-def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None, ink: str = "gl") -> Paper:
+def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None = None, ink: str = "auto") -> Paper:
     """A paper for `chars` characters in a row, each em box a size x size px square, with the
     style's scene; `samples` overrides its multisampling (1 is ~2.5x faster on a software
     renderer, its edges stepped at the pixel); `ink` picks the ink's path (paper.ink_path:
@@ -56,7 +56,7 @@ def writing_paper(style: Style, size: int, chars: int = 1, samples: int | None =
 
 def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed: int = 0,
                samples: int | None = None, counts: dict | None = None, paper: Paper | None = None,
-               ink: str = "gl", plans=None) -> Paper:
+               ink: str = "auto", plans=None) -> Paper:
     """A paper (len(glyphs) * size) x size px with the glyphs written left to right, one em box
     per glyph filling a size x size square, by one brush: ink and wetness carry from character
     to character (re-dipped at each), as in a hand-written line. samples: multisampling of the
@@ -87,7 +87,7 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
     return paper
 
 
-def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0, ink: str = "gl") -> Paper:
+def render_glyph(glyph, size: int = 1024, style: Style | str = "kai", seed: int = 0, ink: str = "auto") -> Paper:
     """A paper of `size` x `size` px whose em box is the whole image (so a Make Me a Hanzi glyph
     lands where its SVG recipe draws the outlines), with the glyph written on it."""
     return text_paper([glyph], size, style, seed, ink=ink)
