@@ -395,22 +395,37 @@ struct Segment {
   Vec2 p;
 };
 
-// crossing point on the edge (i, j), computed from the canonical order so both triangles
-// of the edge get bit-identical points
-Vec2 cross_point(const SurfaceMesh& mesh, int i, int j) {
+// the point (x, y) of the edge (i, j) where a field linear along it, w_i at i and w_j at j (of
+// opposite signs), is 0; computed from the canonical order so both triangles of the edge get
+// bit-identical points
+Vec2 zero_on_edge(const SurfaceMesh& mesh, int i, int j, double wi, double wj) {
   const auto& Vx = mesh.vertices;
-  if (i > j) std::swap(i, j);
-  const double zi = Vx(i, 2), zj = Vx(j, 2);
-  const double t = zi / (zi - zj);  // sides differ, so zi != zj
+  if (i > j) std::swap(i, j), std::swap(wi, wj);
+  const double t = wi / (wi - wj);  // signs differ, so wi != wj
   return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
 }
 
-void check_face(int f, const int* v, int V) {
+// the z = 0 crossing on the edge (i, j)
+Vec2 cross_point(const SurfaceMesh& mesh, int i, int j) {
+  return zero_on_edge(mesh, i, j, mesh.vertices(i, 2), mesh.vertices(j, 2));
+}
+
+// a closed walk's points as a loop: the end's repeats of the start dropped; false for fewer
+// than three points
+bool as_loop(std::vector<Vec2>& pts, LoopMatrix& loop) {
+  while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= kSamePoint2) pts.pop_back();
+  if (pts.size() < 3) return false;
+  loop.resize(static_cast<Eigen::Index>(pts.size()), 2);
+  for (std::size_t i = 0; i < pts.size(); ++i) loop.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
+  return true;
+}
+
+void check_face(int f, const int* v, int V, const char* who = "footprint_loops") {
   if (static_cast<unsigned>(v[0]) < static_cast<unsigned>(V) && static_cast<unsigned>(v[1]) < static_cast<unsigned>(V) &&
       static_cast<unsigned>(v[2]) < static_cast<unsigned>(V))
     return;
   std::ostringstream os;
-  os << "footprint_loops: face " << f << " has a vertex index out of range [0, " << V << "): (" << v[0]
+  os << who << ": face " << f << " has a vertex index out of range [0, " << V << "): (" << v[0]
      << ", " << v[1] << ", " << v[2] << ")";
   throw std::invalid_argument(os.str());
 }
@@ -484,12 +499,9 @@ std::vector<LoopMatrix> footprint_loops(const SurfaceMesh& mesh) {
   pts.reserve(segs.size());
   for (int s0 = 0; s0 < static_cast<int>(segs.size()); ++s0) {
     if (used[s0] || !walk_loop(segs, by_start, s0, used, pts)) continue;
-    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= kSamePoint2) pts.pop_back();
-    if (pts.size() < 3) continue;
     // emit the loop as a (k, 2) row-major matrix, first point not repeated
-    LoopMatrix m(static_cast<Eigen::Index>(pts.size()), 2);
-    for (std::size_t i = 0; i < pts.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
-    loops.push_back(std::move(m));
+    LoopMatrix m;
+    if (as_loop(pts, m)) loops.push_back(std::move(m));
   }
   return loops;
 }
@@ -509,15 +521,6 @@ struct Piece {
 inline std::uint64_t z_key(int i, int j) { return edge_key(i, j) << 2; }
 inline std::uint64_t s_key(int i, int j) { return (edge_key(i, j) << 2) | 1; }
 inline std::uint64_t f_key(int f) { return (static_cast<std::uint64_t>(f) << 2) | 2; }
-
-// the point of edge (i, j) where the field w (per vertex) crosses 0, in (x, y), from the
-// canonical order so that both faces of the edge get it alike
-Vec2 field_cross(const SurfaceMesh& mesh, const std::vector<double>& w, int i, int j) {
-  if (i > j) std::swap(i, j);
-  const auto& Vx = mesh.vertices;
-  const double t = w[i] / (w[i] - w[j]);
-  return Vec2(Vx(i, 0) + t * (Vx(j, 0) - Vx(i, 0)), Vx(i, 1) + t * (Vx(j, 1) - Vx(i, 1)));
-}
 
 // The outline pieces of the projection of the part of the surface below the paper that faces
 // down, {z < 0} and {s < 0} with both fields linear over each face: on each face the z = 0
@@ -566,7 +569,8 @@ std::vector<Piece> projection_pieces(const SurfaceMesh& mesh, const std::vector<
         const double t = w[i] / (w[i] - w[j]);
         return u[i] + t * (u[j] - u[i]);
       };
-      const Vec2 p0 = field_cross(mesh, w, e[0][0], e[0][1]), p1 = field_cross(mesh, w, e[1][0], e[1][1]);
+      const Vec2 p0 = zero_on_edge(mesh, e[0][0], e[0][1], w[e[0][0]], w[e[0][1]]);
+      const Vec2 p1 = zero_on_edge(mesh, e[1][0], e[1][1], w[e[1][0]], w[e[1][1]]);
       const bool in0 = neg(other(0)), in1 = neg(other(1));
       if (!in0 && !in1) return;
       Piece pc{key(0), key(1), p0, p1, false};
@@ -648,11 +652,8 @@ std::vector<LoopMatrix> link_pieces(const std::vector<Piece>& pieces) {
       used[next] = 1;
       k = next;
     }
-    if (!closed) continue;
-    while (pts.size() > 1 && (pts.front() - pts.back()).squaredNorm() <= kSamePoint2) pts.pop_back();
-    if (pts.size() < 3) continue;
-    LoopMatrix m(static_cast<Eigen::Index>(pts.size()), 2);
-    for (std::size_t i = 0; i < pts.size(); ++i) m.row(static_cast<Eigen::Index>(i)) = pts[i].transpose();
+    LoopMatrix m;
+    if (!closed || !as_loop(pts, m)) continue;
     const bool reverse = dir_votes != 0 ? dir_votes < 0 : loops_area({m}) < 0.0;
     if (reverse) m.colwise().reverseInPlace();
     loops.push_back(std::move(m));
@@ -690,10 +691,9 @@ std::vector<LoopMatrix> footprint_projection(const SurfaceMesh& mesh, const std:
 
 std::vector<LoopMatrix> footprint_projection(const SurfaceMesh& mesh) {
   const int V = static_cast<int>(mesh.vertices.rows());
-  for (int f = 0; f < static_cast<int>(mesh.faces.rows()); ++f) check_face(f, &mesh.faces(f, 0), V);
+  for (int f = 0; f < static_cast<int>(mesh.faces.rows()); ++f) check_face(f, &mesh.faces(f, 0), V, "footprint_projection");
   return footprint_projection(mesh, vertex_normal_z(mesh));
 }
-
 
 FootprintSpan footprint_span(const std::vector<LoopMatrix>& loops, double heading) {
   // area centroid by the shoelace moments: A = 1/2 sum cross, C = 1/(6A) sum (p_i + p_j) cross

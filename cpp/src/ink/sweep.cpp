@@ -128,10 +128,11 @@ NearPart near_part(const SurfaceMesh& last, const SurfaceMesh& cur) {
   }
   p.mesh.faces = Eigen::Map<Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>>(
       faces.data(), static_cast<Eigen::Index>(faces.size() / 3), 3);
-  for (auto [ends, s] : {std::pair<const Rows3*, std::vector<double>*>{&p.a, &p.sa}, {&p.b, &p.sb}}) {
-    p.mesh.vertices = *ends;
-    *s = vertex_normal_z(p.mesh);
-  }
+  // each end's vertex normals, once: a blend takes theirs with its vertices
+  p.mesh.vertices = p.a;
+  p.sa = vertex_normal_z(p.mesh);
+  p.mesh.vertices = p.b;
+  p.sb = vertex_normal_z(p.mesh);
   return p;
 }
 
