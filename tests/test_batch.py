@@ -757,25 +757,64 @@ class _SpringsOff(_LeavesOnPress):
         return [[(0.0, 0.0), (r, 0.0), (0.0, r)]]
 
 
+class _Stretches(_LeavesOnPress):
+    """Touches with a 6 mm triangle; from step `thin_from` on with a sliver as wide across the
+    travel (6 mm) but of a twelfth of its area: a belly sprung off, the tip's stretch left."""
+
+    def __init__(self, model, tilt, thin_from):
+        super().__init__(model, tilt, -0.05)
+        self.thin_from = thin_from
+
+    def footprint(self):
+        if self.poses[-1].position[2] >= self.z_leave:
+            return []
+        return [[(0.0, 0.0), (0.5 if len(self.poses) >= self.thin_from else 6.0, 0.0), (0.0, 6.0)]]
+
+
+@pytest.mark.parametrize("fake", [_SpringsOff, _Stretches])
 @pytest.mark.parametrize("frac, ends_early", [(0.9, True), (0.5, False)])
-def test_a_footprint_that_collapses_near_the_end_ends_the_stroke(frac, ends_early):
+def test_a_footprint_that_collapses_near_the_end_ends_the_stroke(fake, frac, ends_early):
     """Past taper_from of a stroke, a footprint narrower than taper_collapse of the aimed width
-    ends the travel there and the brush goes straight up (pressed on, the tip came down again
-    and swelled into a bead after the neck). Earlier in the stroke the travel goes on."""
+    (_SpringsOff), or as wide across the stroke but with under taper_collapse of the last frame's
+    area (_Stretches: the width alone missed a dot's belly springing off, and the loops threw the
+    root after its moved centre, the tip leaving a bead past the dot's end), ends the travel there
+    and the brush goes straight up (pressed on, the tip came down again and swelled into a bead
+    after the neck). Earlier in the stroke the travel goes on."""
     kai = replace(Style.load("kai"), jitter=0.0)
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
     travel = len(_resample(pts, kai.step_mm)[0])
     start = kai.air_frames + kai.entry_frames
-    sliver_from = start + int(frac * travel)
+    collapse_from = start + int(frac * travel)
     writer = Writer(_Paper(), kai)
-    writer.brush = _SpringsOff(writer.shape, kai.tilt_deg, sliver_from)
+    writer.brush = fake(writer.shape, kai.tilt_deg, collapse_from)
     writer.write_stroke(pts, "㇐")
     poses = writer.brush.poses
     if ends_early:
-        assert len(poses) == sliver_from + 1                 # the collapsed frame, then one lift
+        assert len(poses) == collapse_from + 1               # the collapsed frame, then one lift
         assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+        assert writer.press <= kai.press_start                # the next entry is no deeper than the first guess
     else:
         assert len(poses) > start + travel                    # the travel went on to its end
+
+
+def test_the_heading_turns_smoothly_at_a_vertex_and_late_at_a_corner():
+    """The driver turns the brush by the centreline's heading smoothed (its root a tuft length
+    ahead on it: a heading that stepped 30 degrees at a vertex swung the root 5 mm within a
+    frame) and lagging, so at a 折 the brush carries on past the corner before it swings round."""
+    from brushwork.writing.targets import HEADING_LAG_MM, stroke_targets
+
+    kai = replace(Style.load("kai"), jitter=0.0)
+    vertex = np.array([[10.0, 50.0], [30.0, 50.0], [30.0 + 20.0 * np.cos(0.52), 50.0 - 20.0 * np.sin(0.52)]])
+    _, _, heading, _ = stroke_targets(kai, vertex, "㇐", 5.0)
+    assert np.degrees(np.max(np.abs(np.diff(heading)))) < 10.0
+    assert np.degrees(heading[-1]) == pytest.approx(-30.0, abs=0.5)
+    corner = np.array([[10.0, 50.0], [30.0, 50.0], [30.0, 30.0]])
+    path, s, heading, _ = stroke_targets(kai, corner, "㇕", 5.0)
+    at = int(np.argmin(np.hypot(*(path - [30.0, 50.0]).T)))
+    assert np.degrees(heading[at]) > -20.0          # at the corner: mostly along the 横 yet (unlagged: -45)
+    half = int(np.argmax(np.degrees(heading) < -45.0))
+    assert s[half] - s[at] == pytest.approx(HEADING_LAG_MM, abs=kai.step_mm)
+    assert np.degrees(heading[-1]) == pytest.approx(-90.0, abs=1.0)
 
 
 class _Vanishes(_LeavesOnPress):

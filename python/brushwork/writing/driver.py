@@ -28,7 +28,7 @@ from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
 from .plan import lowpass
 from .style import Style, family
-from .targets import _centroid_and_width, joins, stroke_targets
+from .targets import _centroid_and_width, centreline, footprint_area, joins, stroke_targets
 
 # the driver's constants (L: the tuft length)
 PRESS_ON = 0.02           # L: press added per frame while a pressing brush has not touched yet
@@ -72,6 +72,7 @@ class Writer:
         self.density = 1.0                # width factor of the character being written (density_gain)
         self.widths: list[float] = []     # mm: the footprint's width across the travel, a frame, this stroke
         self.last_width = None            # mm: the footprint's width on the last frame (None: not touching)
+        self.ending_area = None           # mm2: the footprint's area on the last frame of a stroke's end (_collapsed)
         self.corner_press = 0.0           # L: the press at a hook's corner, eased from along its flick
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
         # the solver over every frame written: steps, steps whose solve stopped at the iteration
@@ -184,7 +185,7 @@ class Writer:
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
         self.widths = []
-        self.last_width = None
+        self.last_width = self.ending_area = None
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
         path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
         aim = _Aim(st, path, s, width, joined)
@@ -208,7 +209,7 @@ class Writer:
 
     # what a rehearsal must put back: the brush's state and the writer's own
     _REHEARSED = ("press", "offset_local", "behind", "ahead", "touching", "touched_in_stroke", "frames", "holds",
-                  "last_width", "breaks", "widths", "contact", "root")
+                  "last_width", "ending_area", "breaks", "widths", "contact", "root")
 
     def _plan(self, aim: "_Aim", heading: np.ndarray, w_nom: float, tapering: bool) -> "_Plan":
         """Iterative learning control of one stroke: rehearse it (the brush's state kept and put
@@ -300,7 +301,11 @@ class Writer:
             if tapering and aim.tapers_at(j) and self._taper_ends(eased, heading[j], width[j]):
                 break
             if aim.ending_at(j) and self._collapsed(heading[j], width[j]):
+                # ended before the loops eased the press off a pressed end (a dot's belly): that
+                # press is no guess for the next stroke's entry, which pressed as deep and
+                # touched down in a knob
                 self.sprung = True
+                self.press = min(self.press, st.press_start)
                 break
         return j
 
@@ -323,12 +328,20 @@ class Writer:
         return not self._slipped(self.last_width, before)
 
     def _collapsed(self, heading: float, width: float) -> bool:
-        """The footprint has shrunk to under taper_collapse of the aimed width, or gone: a bent
-        tuft whose belly has sprung off the paper near a stroke's end. Pressing on (the width loop
-        would, and a tip that came down again swelled into a bead after the neck) is not what a
-        hand does there: the stroke ends."""
+        """The footprint has shrunk to under taper_collapse of the aimed width, or its area to under
+        taper_collapse of the last frame's, or it has gone: a bent tuft whose belly has sprung off
+        the paper near a stroke's end. Pressing on (the width loop would, and a tip that came down
+        again swelled into a bead after the neck) is not what a hand does there: the stroke ends.
+        (The width alone misses a belly that springs off a dot: the tip's stretch still spans it
+        across, while the area falls to a quarter; followed on, the loops threw the root 4 mm
+        after the footprint's moved centre and the tip left a bead past the dot's end.)"""
         seen = _centroid_and_width(self.contact, heading)
-        return seen is None or seen[1] < self.style.taper_collapse * width
+        if seen is None:
+            return True
+        area, before = footprint_area(self.contact), self.ending_area
+        self.ending_area = area
+        collapse = self.style.taper_collapse
+        return seen[1] < collapse * width or (before is not None and area < collapse * before)
 
     def _follow(self, target: np.ndarray, heading: float) -> None:
         """On a replayed plan: what the loops would have learned, the footprint's reach and the
@@ -352,7 +365,7 @@ class Writer:
         stands (eased up, the folded tip of a 捺 or a hook came down again behind the collapsed
         footprint, a bead at the exit)."""
         st = self.style
-        back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering else self.offset_local[0])
+        back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering or self.sprung else self.offset_local[0])
         # Once a deposit leaves no ink (the belly may already have left on the travel's last
         # frame) the rest of the lift is one frame: eased out over the remaining frames, the tuft
         # springing back as the root rose slowly swung its tip down onto the paper again, a dot
@@ -404,9 +417,8 @@ class Writer:
         medians = [o + (np.asarray(stroke.points, dtype=float) + np.asarray(st.offset_em, dtype=float)) * st.em_mm
                    for stroke in glyph.strokes]
         for k, (stroke, pts) in enumerate(zip(glyph.strokes, medians)):
-            d0 = pts[min(1, len(pts) - 1)] - pts[0]
-            h0 = math.atan2(d0[1], d0[0])
-            self.travel(pts[0], h0)
+            # in the air the brush turns to the heading it will come down with
+            self.travel(pts[0], float(centreline(st, pts)[2][0]))
             if on_stroke is not None and k > 0:
                 on_stroke(k - 1)
             self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))

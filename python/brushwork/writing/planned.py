@@ -15,6 +15,7 @@ import numpy as np
 from ..brush import Brush, Pose, between
 from .plan import GlyphPlan, Median, StrokePlan, sample
 from .style import Style
+from .targets import loop_area
 
 TRAVEL_STEP_MM = 4.0      # mm the root moves a frame in the air between strokes
 TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
@@ -26,12 +27,6 @@ TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
 SNAP_MM = 1.0
 MAX_SUBSTEPS = 8
 _SHIFT = 4                # cv2.fillPoly fixed-point bits
-
-
-def _area(loop: np.ndarray) -> float:
-    """Signed area (shoelace) of a closed polygon (k, 2): > 0 counter-clockwise."""
-    x, y = loop[:, 0], loop[:, 1]
-    return 0.5 * float(x[:-1] @ y[1:] - y[:-1] @ x[1:] + x[-1] * y[0] - y[-1] * x[0])
 
 
 class InkGrid:
@@ -52,7 +47,7 @@ class InkGrid:
     def deposit(self, brush: Brush) -> bool:
         """The ink under the brush; True when it touches the paper."""
         loops = [np.asarray(lp)[:, :2] for lp in brush.footprint()]
-        outer = [self._px(lp) for lp in loops if len(lp) >= 3 and _area(lp) > 0.0]
+        outer = [self._px(lp) for lp in loops if len(lp) >= 3 and loop_area(lp) > 0.0]
         if not outer:
             self.last = None
             return False

@@ -97,8 +97,9 @@ FIELDS: tuple[StyleField, ...] = (
     _F("taper_from", "float?", "median", 0.0, 1.0, None,
        "出锋 exits (撇, 提, 捺, hooks): from this fraction of the median on the press only eases (null: off)"),
     _F("taper_collapse", "float", "width", 0.0, 1.0, 0.5,
-       "... and the travel ends once the footprint is narrower than this fraction of the width "
-       "(earlier, a footprint shrinking under this fraction of its last width is pressed again)"),
+       "... and the travel ends once the footprint is narrower than this fraction of the width, or its area "
+       "under this fraction of the last frame's (earlier, a footprint shrinking under this fraction of its last "
+       "width is pressed again)"),
     _F("flick_press", "float?", "L", -0.2, 0.5, None,
        "a hook's flick 钩 (the median past its last turn of more than 57 deg) written open-loop, "
        "the press eased in a straight line from the corner's to this (null: the loops write it)"),

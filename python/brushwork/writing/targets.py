@@ -8,7 +8,17 @@ import math
 import numpy as np
 
 from .. import _core
+from .plan import lowpass, smooth_polyline
 from .style import Style, family
+
+# The heading the brush is turned by: the centreline's, smoothed over HEADING_SIGMA_MM of arc
+# (Gaussian sigma), corners included, and HEADING_LAG_MM behind it. The root stands about a tuft
+# length ahead of the footprint on the heading, so a heading that steps at a vertex of a coarse
+# median swings the root a few mm within one frame (9 mm x 20 deg = 3 mm) and the tuft, dragged
+# round, leaves a lump in the edge; turned late, the brush carries on past a corner before it
+# swings round, and the shoulder of a 折 is filled rather than cut
+HEADING_SIGMA_MM = 2.0
+HEADING_LAG_MM = 2.0
 
 
 def _resample(points: np.ndarray, step: float) -> tuple[np.ndarray, np.ndarray]:
@@ -35,6 +45,18 @@ def _corners(path: np.ndarray, min_turn_deg: float = 55.0) -> np.ndarray:
     return out
 
 
+def loop_area(loop: np.ndarray) -> float:
+    """Signed area (shoelace) of a closed polygon (k, 2): > 0 counter-clockwise."""
+    x, y = loop[:, 0], loop[:, 1]
+    return 0.5 * float(x[:-1] @ y[1:] - y[:-1] @ x[1:] + x[-1] * y[0] - y[-1] * x[0])
+
+
+def footprint_area(loops) -> float:
+    """mm2 of the footprint polygons (Brush.footprint: outer loops counter-clockwise, holes
+    clockwise)."""
+    return sum(loop_area(np.asarray(lp)[:, :2]) for lp in loops if len(lp) >= 3)
+
+
 def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float, float] | None:
     """Area centroid (mm) of the footprint polygons, their width across `heading` (mm), and how
     far they reach behind and ahead of the centroid along `heading` (mm); None without a
@@ -47,15 +69,30 @@ def _centroid_and_width(loops, heading: float) -> tuple[np.ndarray, float, float
     return _core.footprint_span(loops, float(heading))
 
 
+def _heading(path: np.ndarray, step_mm: float) -> np.ndarray:
+    """(n,) rad: the heading along `path` ((n, 2) mm, points step_mm apart), smoothed over
+    HEADING_SIGMA_MM and HEADING_LAG_MM behind it (the first heading held meanwhile)."""
+    d = np.gradient(path, axis=0)
+    heading = lowpass(np.unwrap(np.arctan2(d[:, 1], d[:, 0])), HEADING_SIGMA_MM / step_mm)
+    lag = min(int(round(HEADING_LAG_MM / step_mm)), len(heading) - 1)
+    return np.r_[np.full(lag, heading[0]), heading[:len(heading) - lag]]
+
+
+def centreline(style: Style, points_mm: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The stroke's centreline `points_mm` ((k, 2) mm) as a curve that turns smoothly between its
+    corners (smooth_polyline), resampled every `step_mm`: path (n, 2) mm, arc length s (n,) mm and
+    the heading the brush is turned by (n,) rad (_heading)."""
+    path, s = _resample(smooth_polyline(np.asarray(points_mm, dtype=float)), style.step_mm)
+    return path, s, _heading(path, style.step_mm)
+
+
 def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
                    w_nom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """What the driver aims a stroke at: its centreline `points_mm` ((k, 2) mm) resampled every
-    `step_mm` -> path (n, 2) mm, arc length s (n,) mm, heading (n,) rad, and the target footprint
-    width (n,) mm: `w_nom` (mm) times the family's profile over s / length, pressed at corners
-    (折) and, for plain strokes and hooks, broader when vertical."""
-    path, s = _resample(points_mm, style.step_mm)
-    d = np.gradient(path, axis=0)
-    heading = np.unwrap(np.arctan2(d[:, 1], d[:, 0]))
+    """What the driver aims a stroke at: its centreline `points_mm` ((k, 2) mm) -> path (n, 2) mm,
+    arc length s (n,) mm, heading (n,) rad (centreline), and the target footprint width (n,) mm:
+    `w_nom` (mm) times the family's profile over s / length, pressed at corners (折) and, for
+    plain strokes and hooks, broader when vertical."""
+    path, s, heading = centreline(style, points_mm)
     prof = np.asarray(style.profiles[family(kind)], dtype=float)
     width = w_nom * np.interp(s / max(s[-1], 1e-6), prof[:, 0], prof[:, 1])
     width *= 1.0 + (style.corner_press - 1.0) * _corners(path)
