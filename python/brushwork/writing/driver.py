@@ -42,6 +42,10 @@ TAPERING = ("tapered", "rising", "flared", "hook")
 # from there to the end, where that turn lies past FLICK_FROM of the median
 FLICK_TURN = 1.0
 FLICK_FROM = 0.6
+# ... and the flick goes on FLICK_PAST_EM (em) straight past the median's end while the press eases
+# out: a Make Me a Hanzi median stops inside the hook, whose tip the trailing tuft reaches only
+# when the root runs on (stopped at the median's end, the hook ended in a blunt pad)
+FLICK_PAST_EM = 0.06
 
 
 def _clip(x: float, lo: float, hi: float) -> float:
@@ -198,10 +202,11 @@ class Writer:
         tapering = st.taper_from is not None and family(kind) in TAPERING
         if st.flick_press is not None and family(kind) == "hook":
             aim.flick = aim.flick_from(heading)
+            aim.past = int(round(FLICK_PAST_EM * st.em_mm / st.step_mm)) if aim.flick is not None else 0
         plan = self._plan(aim, heading, w_nom, tapering) if st.plan_passes > 0 else None
         self._come_down(aim, heading[0])
         j = self._along(aim, heading, w_nom, tapering, plan)
-        self._lift(aim.target(self, j), heading[j], tapering)
+        self._lift(aim.point(self, j), heading[aim.on_median(j)], tapering)
         self.paper.end_stroke()
         tally = self.beads.setdefault(family(kind), [0, 0])
         tally[0] += int(beaded(self.widths))
@@ -276,7 +281,7 @@ class Writer:
         st, width = self.style, aim.width
         self.log = _Log()
         self.sprung = False
-        for j in range(len(aim.path) if plan is None else len(plan.press)):
+        for j in range(len(aim.path) + aim.past if plan is None else len(plan.press)):
             if aim.flick is not None and j >= aim.flick:
                 if not self._flick_step(aim, heading, j):
                     break
@@ -311,20 +316,21 @@ class Writer:
 
     def _flick_step(self, aim: "_Aim", heading: np.ndarray, j: int) -> bool:
         """One frame of a hook's flick 钩: out of the pressed corner the hand flicks the brush
-        along the hook while it eases the press in a straight line from the corner's to the
-        style's flick_press at the median's end, without the loops (their width loop, pressing
-        the belly back down as it swung round the corner, left a club or a knot where the flick
-        belongs). False once the brush has left the paper, or its footprint has shrunk within the
-        frame to under taper_collapse of its width (the belly sprang off: flicked on, the tip came
-        down again behind it, a bead at the hook's end)."""
+        along the hook and aim.past frames on past the median's end while it eases the press in
+        a straight line from the corner's to the style's flick_press there, without the loops
+        (their width loop, pressing the belly back down as it swung round the corner, left a club
+        or a knot where the flick belongs). False once the brush has left the paper, or its
+        footprint has shrunk within the frame to under taper_collapse of its width (the belly
+        sprang off: flicked on, the tip came down again behind it, a bead at the hook's end)."""
         if j == aim.flick:
             self.corner_press = self.press
-        f = (aim.s[j] - aim.s[aim.flick]) / max(aim.length - aim.s[aim.flick], 1e-6)
+        corner = aim.s[aim.flick]
+        f = (aim.arc(j) - corner) / max(aim.arc(len(aim.path) - 1 + aim.past) - corner, 1e-6)
         eased = self.corner_press + (self.style.flick_press - self.corner_press) * f
         self.press = float(_clip(eased, 0.0, PRESS_MAX))
-        pj, before = aim.target(self, j), self.last_width
-        self._step(pj, heading[j], self.press, self.style.tilt_deg)
-        self.log.add(self.root, self.press, pj, heading[j], self.contact)
+        pj, hj, before = aim.point(self, j), heading[aim.on_median(j)], self.last_width
+        self._step(pj, hj, self.press, self.style.tilt_deg)
+        self.log.add(self.root, self.press, pj, hj, self.contact)
         return not self._slipped(self.last_width, before)
 
     def _collapsed(self, heading: float, width: float) -> bool:
@@ -437,6 +443,7 @@ class _Aim:
         self.st, self.path, self.s, self.width = st, path, s, width
         self.joined = joined
         self.flick: int | None = None     # the first frame of a hook's flick (flick_from), if written as one
+        self.past = 0                     # frames the flick goes on past the median's end
         self.length = max(s[-1], 1e-6)
         self.start_reach = st.end_reach_em if st.start_reach_em is None else st.start_reach_em
         self.end_reach = st.end_reach_em
@@ -463,6 +470,25 @@ class _Aim:
         sj = 0.5 * (lo + hi) if lo > hi else float(_clip(self.s[j], lo, hi))
         sj = float(_clip(sj, 0.0, self.length))
         return np.array([np.interp(sj, self.s, self.path[:, 0]), np.interp(sj, self.s, self.path[:, 1])])
+
+    def on_median(self, j: int) -> int:
+        """The path's index of frame j: frames past the median's end (a flick's) stay at its end."""
+        return min(j, len(self.path) - 1)
+
+    def widths(self, m: int) -> np.ndarray:
+        """(m,) the target widths of frames 0..m-1, the end's held past the median's end."""
+        return self.width[np.minimum(np.arange(m), len(self.width) - 1)]
+
+    def arc(self, j: int) -> float:
+        """mm of arc of frame j, one step_mm a frame on past the median's end."""
+        k = self.on_median(j)
+        return float(self.s[k]) + (j - k) * self.st.step_mm
+
+    def point(self, writer: "Writer", j: int) -> np.ndarray:
+        """target(j), and past the median's end straight on along its last segment."""
+        k = self.on_median(j)
+        d = self.path[-1] - self.path[-2] if len(self.path) > 1 else np.zeros(2)
+        return self.target(writer, k) + d / max(float(np.linalg.norm(d)), 1e-9) * (j - k) * self.st.step_mm
 
     def ending_at(self, j: int) -> bool:
         """Past taper_from along the median (any stroke's last stretch)."""
@@ -531,16 +557,18 @@ class _Log:
         """(m, 2) mm aim - centre (0 off the paper) and (m,) relative width error (w_aim - w) / w_aim."""
         t = self.table
         pos = np.nan_to_num(t[:, 3:5] - t[:, 5:7])
-        w_aim = aim.width[:len(t)]
+        w_aim = aim.widths(len(t))
         return pos, (w_aim - t[:, 7]) / np.maximum(w_aim, 1e-3)
 
     def error(self, aim: "_Aim") -> float:
-        """How far the footprint's edges were from the aim's, mean square over the frames, in
-        units of the width: (position error / width)^2 + (relative width error)^2 / 2."""
+        """How far the footprint's edges were from the aim's, mean square over the frames on the
+        median (a flick's frames past its end aim at no width), in units of the width: (position
+        error / width)^2 + (relative width error)^2 / 2."""
         if not self.rows:
             return math.inf
         pos, rel = self.errors(aim)
-        w_aim = aim.width[:len(rel)]
+        m = min(len(rel), len(aim.path))
+        pos, rel, w_aim = pos[:m], rel[:m], aim.width[:m]
         return float(np.mean((pos ** 2).sum(axis=1) / w_aim ** 2 + 0.5 * rel ** 2))
 
 
