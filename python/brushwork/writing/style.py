@@ -102,7 +102,8 @@ FIELDS: tuple[StyleField, ...] = (
        "width is pressed again)"),
     _F("flick_press", "float?", "L", -0.2, 0.5, None,
        "a hook's flick 钩 (the median past its last turn of more than 57 deg) written open-loop, "
-       "the press eased in a straight line from the corner's to this (null: the loops write it)"),
+       "the press eased in a straight line from the corner's to this 0.06 em past the median's end "
+       "(null: the loops write it)"),
     _F("plan_passes", "int", "passes", 0, 8, 0,
        "rehearsals of each stroke replaying a corrected plan of poses (0: the frame-by-frame loops alone)"),
     _F("plan_sigma_mm", "float", "mm", 0.0, 50.0, 3.0, "Gaussian along the stroke that low-passes the plan"),
