@@ -366,10 +366,11 @@ class Writer:
 
     def _lift(self, end: np.ndarray, h: float, tapering: bool) -> None:
         """Lift while drawing the root back over the footprint (回锋, returning the tip), so the
-        unbending tuft does not sweep ink past the stroke's end; a tapered exit has no tip to
-        return (only the tip touches as the travel ends): it leaves the paper at once, where it
-        stands (eased up, the folded tip of a 捺 or a hook came down again behind the collapsed
-        footprint, a bead at the exit)."""
+        unbending tuft does not sweep ink past the stroke's end; a tapered exit, and a travel that
+        ended where the footprint collapsed (self.sprung), have no tip to return (only the tip
+        touches): the brush leaves the paper at once, where it stands (eased up, the folded tip of
+        a 捺 or a hook came down again behind the collapsed footprint, a bead at the exit; drawn
+        back within that one frame, the root swept a tuft length back over the stroke)."""
         st = self.style
         back = np.array([math.cos(h), math.sin(h)]) * (0.0 if tapering or self.sprung else self.offset_local[0])
         # Once a deposit leaves no ink (the belly may already have left on the travel's last
