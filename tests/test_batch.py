@@ -757,18 +757,14 @@ class _SpringsOff(_LeavesOnPress):
         return [[(0.0, 0.0), (r, 0.0), (0.0, r)]]
 
 
-class _Stretches(_LeavesOnPress):
-    """Touches with a 6 mm triangle; from step `thin_from` on with a sliver as wide across the
+class _Stretches(_SpringsOff):
+    """Touches with a 6 mm triangle; from step `sliver_from` on with a sliver as wide across the
     travel (6 mm) but of a twelfth of its area: a belly sprung off, the tip's stretch left."""
-
-    def __init__(self, model, tilt, thin_from):
-        super().__init__(model, tilt, -0.05)
-        self.thin_from = thin_from
 
     def footprint(self):
         if self.poses[-1].position[2] >= self.z_leave:
             return []
-        return [[(0.0, 0.0), (0.5 if len(self.poses) >= self.thin_from else 6.0, 0.0), (0.0, 6.0)]]
+        return [[(0.0, 0.0), (0.5 if len(self.poses) >= self.sliver_from else 6.0, 0.0), (0.0, 6.0)]]
 
 
 @pytest.mark.parametrize("fake", [_SpringsOff, _Stretches])

@@ -182,16 +182,18 @@ class Writer:
             rel = (width_target - width) / max(width_target, 1e-3)
             self.press = float(_clip(self.press + st.width_gain * rel, 0.0, PRESS_MAX))
 
-    def write_stroke(self, points_mm: np.ndarray, kind: str, joined: tuple = (False, False)) -> None:
+    def write_stroke(self, points_mm: np.ndarray, kind: str, joined: tuple = (False, False),
+                     line: tuple | None = None) -> None:
         """One stroke along its centreline `points_mm` ((k, 2) mm) of stroke type `kind`; `joined`:
-        whether its start and its end lie on another stroke of the character (see joins)."""
+        whether its start and its end lie on another stroke of the character (see joins); `line`:
+        targets.centreline of it, when the caller has it."""
         st = self.style
         # (the last stroke's deposits say nothing of this one: the brush travelled in the air)
         self.touched_in_stroke = self.touching = False
         self.widths = []
         self.last_width = self.ending_area = None
         w_nom = st.width_em * st.em_mm * self.density * (1.0 + st.jitter * self.rng.standard_normal())
-        path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom)
+        path, s, heading, width = stroke_targets(st, points_mm, kind, w_nom, line)
         aim = _Aim(st, path, s, width, joined)
         # 出锋: near the end of a tapering stroke the press only eases. The footprint does not
         # thin with the press: the spread belly keeps its width, then leaves the paper within a
@@ -425,10 +427,11 @@ class Writer:
                    for stroke in glyph.strokes]
         for k, (stroke, pts) in enumerate(zip(glyph.strokes, medians)):
             # in the air the brush turns to the heading it will come down with
-            self.travel(pts[0], float(centreline(st, pts)[2][0]))
+            line = centreline(st, pts)
+            self.travel(pts[0], float(line[2][0]))
             if on_stroke is not None and k > 0:
                 on_stroke(k - 1)
-            self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm))
+            self.write_stroke(pts, stroke.kind, joins(medians, k, st.width_em * st.em_mm), line)
         if on_stroke is not None and glyph.strokes:
             on_stroke(len(glyph.strokes) - 1)
 
@@ -488,7 +491,7 @@ class _Aim:
     def point(self, writer: "Writer", j: int) -> np.ndarray:
         """target(j), and past the median's end straight on along its last segment."""
         k = self.on_median(j)
-        d = self.path[-1] - self.path[-2] if len(self.path) > 1 else np.zeros(2)
+        d = self.path[-1] - self.path[-2]          # (a resampled path has two points at least)
         return self.target(writer, k) + d / max(float(np.linalg.norm(d)), 1e-9) * (j - k) * self.st.step_mm
 
     def ending_at(self, j: int) -> bool:

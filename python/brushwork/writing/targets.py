@@ -53,7 +53,7 @@ def loop_area(loop: np.ndarray) -> float:
 
 def footprint_area(loops) -> float:
     """mm2 of the footprint polygons (Brush.footprint: outer loops counter-clockwise, holes
-    clockwise)."""
+    clockwise), from the loops in hand (Brush.footprint_area() would find them again)."""
     return sum(loop_area(np.asarray(lp)[:, :2]) for lp in loops if len(lp) >= 3)
 
 
@@ -86,13 +86,13 @@ def centreline(style: Style, points_mm: np.ndarray) -> tuple[np.ndarray, np.ndar
     return path, s, _heading(path, style.step_mm)
 
 
-def stroke_targets(style: Style, points_mm: np.ndarray, kind: str,
-                   w_nom: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def stroke_targets(style: Style, points_mm: np.ndarray, kind: str, w_nom: float,
+                   line: tuple | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """What the driver aims a stroke at: its centreline `points_mm` ((k, 2) mm) -> path (n, 2) mm,
-    arc length s (n,) mm, heading (n,) rad (centreline), and the target footprint width (n,) mm:
-    `w_nom` (mm) times the family's profile over s / length, pressed at corners (折) and, for
-    plain strokes and hooks, broader when vertical."""
-    path, s, heading = centreline(style, points_mm)
+    arc length s (n,) mm, heading (n,) rad (centreline; `line`, when given, is it already), and
+    the target footprint width (n,) mm: `w_nom` (mm) times the family's profile over s / length,
+    pressed at corners (折) and, for plain strokes and hooks, broader when vertical."""
+    path, s, heading = centreline(style, points_mm) if line is None else line
     prof = np.asarray(style.profiles[family(kind)], dtype=float)
     width = w_nom * np.interp(s / max(s[-1], 1e-6), prof[:, 0], prof[:, 1])
     width *= 1.0 + (style.corner_press - 1.0) * _corners(path)
