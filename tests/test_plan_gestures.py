@@ -103,8 +103,9 @@ def test_a_turned_corner_fills_the_outer_shoulder_the_trailing_tuft_cuts_otherwi
     # the outer shoulder: the square 3 mm up and right of the corner's outer edge (y down in px)
     x0, x1 = int(70.5 * ppm), int(73.5 * ppm)
     y0, y1 = int((100 - 73.5) * ppm), int((100 - 70.5) * ppm)
-    cut = _ink(_plan())[y0:y1, x0:x1].mean()
-    turned = _ink(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}))[y0:y1, x0:x1].mean()
+    # pressed 0.4 L: a stroke about 6 mm wide, whose outer shoulder the 3 mm square lies in
+    cut = _ink(_plan(press=0.4))[y0:y1, x0:x1].mean()
+    turned = _ink(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}, press=0.4))[y0:y1, x0:x1].mean()
     assert turned > cut + 0.3
 
 
