@@ -35,3 +35,40 @@ def test_a_hand_file_of_another_version_is_refused(tmp_path):
     path.write_text('{"version": 1, "features": []}\n', encoding="utf-8")
     with pytest.raises(ValueError, match="not a hand file of version 2"):
         Hand.load(path)
+
+
+def test_a_hand_writes_a_broader_style_with_deeper_presses_and_its_own_style_unchanged():
+    """A variable font's weight masters scale the style's width_em; a hand's plans follow it: the
+    press of each control moves to the press whose steady width is that many times its own."""
+    from dataclasses import replace
+
+    from brushwork.writing.fit import response
+    from brushwork.writing.hand import widened
+    from brushwork.writing.plan import BOUNDS
+
+    st = Style.load("kai-learned")
+    hand = Hand.cached(st.hand_path())
+    assert hand.width_em == st.width_em
+    glyph = load_source(f"mmah:{DATA}", "永")["永"]
+    plans = {f: hand.plan(glyph, replace(st, width_em=st.width_em * f)).strokes for f in (0.7, 1.0, 1.45)}
+    resp = response(st.preset, float(st.tilt_deg), tuple(sorted(st.brush.items())))
+    for light, regular, bold in zip(plans[0.7], plans[1.0], plans[1.45]):
+        p = [np.asarray(s.controls["press"]) for s in (light, regular, bold)]
+        touching = resp.at("width", p[1]) > 0.5
+        assert touching.any()
+        deepest = BOUNDS["press"][1]
+        assert np.all(p[0][touching] < p[1][touching])
+        assert np.all((p[1] < p[2])[touching & (p[1] < deepest)]) and np.all(p[2] >= np.minimum(p[1], deepest))
+        # the root keeps its reach ahead of the deeper footprint's centre
+        assert np.asarray(bold.controls["along"]) - np.asarray(regular.controls["along"]) == pytest.approx(
+            resp.at("behind_root", p[2]) - resp.at("behind_root", p[1]))
+    assert widened(plans[1.0][0], 1.0, st) is plans[1.0][0]
+
+
+def test_a_hand_file_whose_width_is_not_a_width_names_the_field(tmp_path):
+    path = tmp_path / "hand.json"
+    path.write_text('{"version": 2, "features": %s, "scale": [], "width_em": -1, "families": {}}\n'
+                    % str(list(__import__("brushwork.writing.hand", fromlist=["FEATURES"]).FEATURES)).replace("'", '"'),
+                    encoding="utf-8")
+    with pytest.raises(ValueError, match="hand.json: width_em: expected a number in 0..0.5 or null"):
+        Hand.load(path)

@@ -14,8 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from .targets import joins
-from .fit import FRAME_SPEED, GESTURES, TURN, controls_count
-from .plan import CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
+from .fit import FRAME_SPEED, GESTURES, TURN, controls_count, response
+from .plan import BOUNDS, CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
 from .style import PROFILE_FAMILIES, Style, family
 
 HAND_VERSION = 2
@@ -74,10 +74,11 @@ def medians_mm(glyph, em_mm: float) -> list:
 
 
 class Hand:
-    """Examples a stroke family: features X (n, F) and plan rows Y (n, ROW)."""
+    """Examples a stroke family: features X (n, F) and plan rows Y (n, ROW); width_em: the nominal
+    stroke width of the style the examples were fitted for (None: whatever the style's)."""
 
-    def __init__(self, style: str, families: dict, scale: np.ndarray):
-        self.style, self.families, self.scale = style, families, scale
+    def __init__(self, style: str, families: dict, scale: np.ndarray, width_em: float | None = None):
+        self.style, self.families, self.scale, self.width_em = style, families, scale, width_em
 
     @property
     def strokes(self) -> int:
@@ -86,7 +87,7 @@ class Hand:
     def save(self, path: str | Path) -> None:
         doc = {"version": HAND_VERSION, "style": self.style, "features": list(FEATURES),
                "samples": S.tolist(), "channels": list(LEARNED), "scale": self.scale.round(5).tolist(),
-               "families": {f: {"X": np.round(x, 4).tolist(), "Y": np.round(y, 4).tolist()}
+               "width_em": self.width_em, "families": {f: {"X": np.round(x, 4).tolist(), "Y": np.round(y, 4).tolist()}
                             for f, (x, y) in self.families.items()}}
         Path(path).write_text(json.dumps(doc, separators=(",", ":")) + "\n", encoding="utf-8")
 
@@ -108,7 +109,10 @@ class Hand:
             raise ValueError(f"{path}: not a hand file of version {HAND_VERSION} with features {', '.join(FEATURES)}")
         fams = {f: (np.asarray(v["X"], float).reshape(-1, len(FEATURES)), np.asarray(v["Y"], float).reshape(-1, ROW))
                 for f, v in doc["families"].items()}
-        return cls(str(doc.get("style", "")), fams, np.asarray(doc["scale"], float))
+        width = doc.get("width_em")
+        if width is not None and (isinstance(width, bool) or not isinstance(width, (int, float)) or not 0.0 < width <= 0.5):
+            raise ValueError(f"{path}: width_em: expected a number in 0..0.5 or null, got {json.dumps(width)[:30]}")
+        return cls(str(doc.get("style", "")), fams, np.asarray(doc["scale"], float), width)
 
     def _examples(self, fam: str) -> tuple:
         x, y = self.families.get(fam, (np.zeros((0, len(FEATURES))), None))
@@ -127,13 +131,15 @@ class Hand:
         return (w[:, None] * y[near]).sum(axis=0) / w.sum()
 
     def plan(self, glyph, st: Style) -> GlyphPlan:
-        """The character's plans from its medians alone."""
+        """The character's plans from its medians alone; a style whose width_em differs from the
+        hand's (a variable font's weight master) has every press widened to match (widened)."""
+        width_em = st.width_em if self.width_em is None else self.width_em
         meds = medians_mm(glyph, st.em_mm)
         plans = []
         for k, stroke in enumerate(glyph.strokes):
             fam = family(stroke.kind)
-            row = self.predict(fam, stroke_features(meds, k, st.width_em * st.em_mm))
-            plans.append(_plan_from_row(row, Median(meds[k]).length, fam, st))
+            row = self.predict(fam, stroke_features(meds, k, width_em * st.em_mm))
+            plans.append(widened(_plan_from_row(row, Median(meds[k]).length, fam, st), st.width_em / width_em, st))
         return GlyphPlan(glyph.char, plans, st.name)
 
 
@@ -144,6 +150,30 @@ def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> Strok
     (ef, eb), (xf, xm) = GESTURES[fam]
     return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-3]), float(row[-2]),
                       Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm), replace(TURN, reach_mm=float(row[-1])))
+
+
+def widened(plan: StrokePlan, factor: float, st: Style) -> StrokePlan:
+    """`plan` with each press control moved to the press whose steady width (the style's brush
+    dragged straight, fit.response) is `factor` times its own, and the root's reach ahead of the
+    footprint (`along`) moved by the response's change of it: the same stroke, broader or
+    narrower (`plan` itself when factor is 1)."""
+    if factor == 1.0:
+        return plan
+    resp = response(st.preset, float(st.tilt_deg), tuple(sorted(st.brush.items())))
+    press = np.asarray(plan.controls["press"], dtype=float)
+    # the width a press leaves, on the response's rising envelope (press_for's), on past the
+    # table's deepest press at its slope there; a control with none (above the paper) stays
+    env, deepest = np.maximum.accumulate(resp.width), resp.press[-1]
+    slope = float(resp.slope(np.array([deepest]))[0])
+    width = np.interp(press, resp.press, env) + np.maximum(press - deepest, 0.0) * slope
+    target = factor * width
+    moved = np.where(target <= env[-1], resp.press_for(np.minimum(target, env[-1])), deepest + (target - env[-1]) / slope)
+    wider = np.where(width > 0.0, np.clip(moved, *BOUNDS["press"]), press)
+    out = plan.copy()
+    out.controls["press"] = [float(v) for v in wider]
+    out.controls["along"] = [float(a + d) for a, d in zip(plan.controls["along"],
+                                                       resp.at("behind_root", wider) - resp.at("behind_root", press))]
+    return out
 
 
 def learn_hand(pairs: list, st: Style) -> Hand:
@@ -158,4 +188,4 @@ def learn_hand(pairs: list, st: Style) -> Hand:
     out = {f: (np.array(x).reshape(-1, len(FEATURES)), np.array(y).reshape(-1, ROW))
            for f, (x, y) in fams.items() if x}
     allx = np.concatenate([x for x, _ in out.values()])
-    return Hand(st.name, out, np.maximum(allx.std(axis=0), 1e-3))
+    return Hand(st.name, out, np.maximum(allx.std(axis=0), 1e-3), st.width_em)
