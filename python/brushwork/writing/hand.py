@@ -9,6 +9,7 @@ from __future__ import annotations
 import json
 import math
 from dataclasses import replace
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -29,19 +30,22 @@ MIN_FAMILY = 12          # fewer examples of a family: its strokes learn from ev
 
 
 def _crossings(medians: list, k: int) -> int:
-    """How many other medians stroke k's median crosses (segment intersections)."""
-    a = medians[k]
-    n = 0
-    for i, b in enumerate(medians):
-        if i != k and any(_segments_cross(a[j], a[j + 1], b[m], b[m + 1])
-                          for j in range(len(a) - 1) for m in range(len(b) - 1)):
-            n += 1
-    return n
+    """How many other medians stroke k's median crosses (a segment of each properly intersecting)."""
+    a = np.asarray(medians[k], dtype=float)
+    return sum(int(_segments_cross(a, np.asarray(b, dtype=float))) for i, b in enumerate(medians) if i != k)
 
 
-def _segments_cross(p, q, r, s) -> bool:
-    d = lambda a, b, c: (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])  # noqa: E731
-    return d(p, q, r) * d(p, q, s) < 0 and d(r, s, p) * d(r, s, q) < 0
+def _side(p: np.ndarray, q: np.ndarray, r: np.ndarray) -> np.ndarray:
+    """The cross product (q - p) x (r - p), broadcast: > 0 where r lies left of p -> q."""
+    return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0])
+
+
+def _segments_cross(a: np.ndarray, b: np.ndarray) -> bool:
+    """Whether a segment of the polyline a (n, 2) and one of b (m, 2) cross: each segment's ends on
+    strictly opposite sides of the other's line (every pair at once, (n - 1) x (m - 1))."""
+    p, q = a[:-1, None, :], a[1:, None, :]
+    r, s = b[None, :-1, :], b[None, 1:, :]
+    return bool(np.any((_side(p, q, r) * _side(p, q, s) < 0) & (_side(r, s, p) * _side(r, s, q) < 0)))
 
 
 def stroke_features(medians: list, k: int, width_mm: float) -> np.ndarray:
@@ -143,9 +147,16 @@ class Hand:
         return GlyphPlan(glyph.char, plans, st.name)
 
 
+@lru_cache(maxsize=None)
+def _from_samples(k: int) -> np.ndarray:
+    """(k, len(S)): k control values from a channel's values at S, as fit_controls finds them (a
+    linear map, made once a k)."""
+    return np.stack([fit_controls(S, e, k) for e in np.eye(len(S))], axis=1)
+
+
 def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> StrokePlan:
     k, n = controls_count(length), len(S)
-    ctl = {c: fit_controls(S, row[i * n:(i + 1) * n], k) for i, c in enumerate(LEARNED)}
+    ctl = {c: _from_samples(k) @ row[i * n:(i + 1) * n] for i, c in enumerate(LEARNED)}
     ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[FRAME_SPEED])
     (ef, eb), (xf, xm) = GESTURES[fam]
     return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-3]), float(row[-2]),
