@@ -142,3 +142,60 @@ def test_fit_regions_prints_each_familys_misses_by_region(tmp_path, capsys):
     assert rows and all(r[1] in REGIONS for r in rows)
     shares = [float(r[3].rstrip("%")) for r in rows]
     assert sum(shares) == pytest.approx(100.0, abs=0.5)
+
+
+def _flicked(flick=None):
+    doc = json.loads(json.dumps(_plan({"mm": 1.0, "press": 0.0, "reach_mm": 2.0}).to_json()))
+    if flick is not None:
+        doc["flick"] = flick
+    return stroke_plan_from_json(doc, "test")
+
+
+def test_a_flick_runs_past_the_hooks_end_easing_the_press_from_its_corner():
+    """The hook's gesture: from the median's last corner the press eases in a straight line to
+    flick.press, reached flick.past_mm past the median's end, where the travel stops."""
+    # a hook: right along y = 70 mm to a corner at (80, 70), 60 mm along, then 10 mm down
+    med = Median(np.array([[20.0, 70.0], [80.0, 70.0], [80.0, 60.0]]))
+    f = sample(_flicked({"past_mm": 4.0, "press": 0.1}), med, 18.0, 1.0, 0.12)
+    root, press = f.root[f.on][:, :2], f.press[f.on]
+    # the travel's last reference point lies 4 mm past the end, straight on down the hook, where
+    # the root stands `along` (8.5 mm) ahead on the tangent, pressed flick.press
+    assert root[-1] == pytest.approx([80.0, 60.0 - 4.0 - 8.5], abs=0.05)
+    assert press[-1] == pytest.approx(0.1, abs=1e-9)
+    # before the corner the plan's own press (0.3); down the hook, the reference point 60 + d mm
+    # along (d from the root's height), a straight line from 0.3 at the corner to 0.1 at 74 mm
+    before = root[:, 0] < 80.0 - 8.5 - 1.0
+    assert np.all(press[before] == pytest.approx(0.3))
+    # (past the turn's run on, which ends 3 mm of arc past the corner)
+    down = (np.abs(root[:, 0] - 80.0) < 1e-6) & (root[:, 1] < 70.0 - 8.5 - 3.5)
+    d = 70.0 - 8.5 - root[down, 1]
+    assert down.sum() > 15 and d.max() == pytest.approx(14.0, abs=0.01)
+    assert press[down] == pytest.approx(0.3 + (0.1 - 0.3) * d / 14.0, abs=0.01)
+    # a median without a corner past its first 60% is written as the plan says
+    for m in (Median(ELL), Median(np.array([[20.0, 50.0], [80.0, 50.0]]))):
+        a = sample(_flicked({"past_mm": 4.0, "press": 0.1}), m, 18.0, 1.0, 0.12)
+        b = sample(_flicked(), m, 18.0, 1.0, 0.12)
+        assert np.array_equal(a.root, b.root) and np.array_equal(a.press, b.press)
+
+
+def test_a_flick_keeps_to_its_file_and_a_bad_one_names_the_field():
+    plan = _flicked({"past_mm": 4.0, "press": 0.1})
+    again = stroke_plan_from_json(json.loads(json.dumps(plan.to_json())), "test")
+    assert (again.flick.past_mm, again.flick.press) == (4.0, 0.1)
+    with pytest.raises(PlanError, match="test: flick.past_mm: expected a number in 0..30"):
+        _flicked({"past_mm": -1.0})
+    with pytest.raises(PlanError, match="test: flick: expected an object"):
+        _flicked([4.0])
+
+
+def test_a_learned_hand_writes_its_hooks_with_a_flick_and_no_other_stroke():
+    from brushwork.glyphs import load_source
+    from brushwork.writing.hand import HOOK_FLICK, Hand
+    from brushwork.writing.style import family
+
+    st = Style.load("kai-learned")
+    glyph = load_source(SOURCE, "永")["永"]
+    plans = Hand.cached(st.hand_path()).plan(glyph, st).strokes
+    hooks = [family(s.kind) == "hook" for s in glyph.strokes]
+    assert any(hooks) and not all(hooks)
+    assert [p.flick for p in plans] == [HOOK_FLICK if h else None for h in hooks]

@@ -16,7 +16,7 @@ import numpy as np
 
 from .targets import joins
 from .fit import FRAME_SPEED, GESTURES, TURN, controls_count, response
-from .plan import BOUNDS, CHANNELS, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
+from .plan import BOUNDS, CHANNELS, Flick, Gesture, GlyphPlan, Median, StrokePlan, fit_controls
 from .style import PROFILE_FAMILIES, Style, family
 
 HAND_VERSION = 2
@@ -27,6 +27,11 @@ FEATURES = ("length", "chord_cos", "chord_sin", "start_cos", "start_sin", "end_c
 NEIGHBOURS = 7
 _CACHE: dict = {}
 MIN_FAMILY = 12          # fewer examples of a family: its strokes learn from every family's
+# a hook is written with the flick gesture: on 4 mm past the median's end (which stops inside the
+# hook) while the press eases from the last corner's to 0.1 L, the trailing tuft drawn out into the
+# hook's point (without it, the press the fit found fell to nothing at the median's end and the
+# hook ended in a round pad)
+HOOK_FLICK = Flick(past_mm=4.0, press=0.1)
 
 
 def _crossings(medians: list, k: int) -> int:
@@ -160,7 +165,8 @@ def _plan_from_row(row: np.ndarray, length: float, fam: str, st: Style) -> Strok
     ctl.update(tilt=[st.tilt_deg], azimuth=[0.0], twist=[0.0], speed=[FRAME_SPEED])
     (ef, eb), (xf, xm) = GESTURES[fam]
     return StrokePlan({c: [float(v) for v in ctl[c]] for c in CHANNELS}, float(row[-3]), float(row[-2]),
-                      Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm), replace(TURN, reach_mm=float(row[-1])))
+                      Gesture(ef, eb, 0.0), Gesture(xf, 0.0, xm), replace(TURN, reach_mm=float(row[-1])),
+                      HOOK_FLICK if fam == "hook" else None)
 
 
 def widened(plan: StrokePlan, factor: float, st: Style) -> StrokePlan:

@@ -16,6 +16,10 @@ median's tangent there (the heading smoothed over `turn.mm`), not on the median:
 a hook's turn) the root runs on past it, so the trailing tuft reaches into the corner, and swings
 round while the reference point passes it, pressed `turn.press` L deeper at the corner (the press
 rising and falling linearly over `turn.mm` either side).
+
+A plan with a `flick` gesture (a hook's 钩) runs its travel on `flick.past_mm` past the median's end,
+straight along it, while from the median's last corner on the press eases in a straight line from
+the corner's to `flick.press` there: the trailing tuft is drawn out into the hook's point.
 """
 from __future__ import annotations
 
@@ -87,6 +91,15 @@ class Turn:
     reach_mm: float = 0.0
 
 
+@dataclass
+class Flick:
+    """The hook's gesture: how far past the median's end the travel runs (mm) and the press it
+    eases to there (L) from the median's last corner."""
+    past_mm: float = 4.0
+    press: float = 0.1
+
+
+FLICK_FROM = 0.6       # a flick eases from the median's last corner past this fraction of its length
 CORNER_DEG = 45.0      # a corner: the median turns more than this ...
 CORNER_MM = 3.0        # ... between its chords this far behind and ahead
 
@@ -115,6 +128,7 @@ class StrokePlan:
     entry: Gesture = field(default_factory=Gesture)
     exit: Gesture = field(default_factory=Gesture)
     turn: Turn | None = None
+    flick: Flick | None = None
 
     def channel(self, name: str, s: np.ndarray) -> np.ndarray:
         """The channel's values at s (array in [0, 1])."""
@@ -129,11 +143,13 @@ class StrokePlan:
         if self.turn is not None:
             doc["turn"] = {"mm": round(self.turn.mm, 4), "press": round(self.turn.press, 4),
                            "reach_mm": round(self.turn.reach_mm, 4)}
+        if self.flick is not None:
+            doc["flick"] = {"past_mm": round(self.flick.past_mm, 4), "press": round(self.flick.press, 4)}
         return doc
 
     def copy(self) -> "StrokePlan":
         """A copy whose controls may be replaced without touching this plan's."""
-        return StrokePlan(dict(self.controls), self.start_mm, self.end_mm, self.entry, self.exit, self.turn)
+        return StrokePlan(dict(self.controls), self.start_mm, self.end_mm, self.entry, self.exit, self.turn, self.flick)
 
 
 def _number(v, where: str, lo: float, hi: float) -> float:
@@ -164,7 +180,7 @@ def stroke_plan_from_json(doc, where: str) -> StrokePlan:
                             _number(g.get("move_mm", 0.0), f"{where}: {key}.move_mm", -50, 50)))
     return StrokePlan(controls, _number(doc.get("start_mm", 0.0), f"{where}: start_mm", -50, 50),
                       _number(doc.get("end_mm", 0.0), f"{where}: end_mm", -50, 50), *gest,
-                      _turn_from_json(doc.get("turn"), where))
+                      _turn_from_json(doc.get("turn"), where), _flick_from_json(doc.get("flick"), where))
 
 
 def _turn_from_json(doc, where: str) -> Turn | None:
@@ -175,6 +191,15 @@ def _turn_from_json(doc, where: str) -> Turn | None:
     return Turn(_number(doc.get("mm", 1.0), f"{where}: turn.mm", 0.1, 20),
                 _number(doc.get("press", 0.0), f"{where}: turn.press", -0.3, 0.3),
                 _number(doc.get("reach_mm", 0.0), f"{where}: turn.reach_mm", -20, 20))
+
+
+def _flick_from_json(doc, where: str) -> Flick | None:
+    if doc is None:
+        return None
+    if not isinstance(doc, dict):
+        raise PlanError(f"{where}: flick: expected an object")
+    return Flick(_number(doc.get("past_mm", 4.0), f"{where}: flick.past_mm", 0.0, 30.0),
+                 _number(doc.get("press", 0.1), f"{where}: flick.press", *BOUNDS["press"]))
 
 
 @dataclass
@@ -361,6 +386,28 @@ def _at_corners(plan: StrokePlan, median: Median, ref: np.ndarray, width: float)
     return near
 
 
+def _flicked(flick: Flick, median: Median, ref: np.ndarray, s: np.ndarray,
+             ch: dict) -> tuple[np.ndarray, np.ndarray]:
+    """The travel's reference points `ref` (mm of arc) and s run on to flick.past_mm past the
+    median's end at their last spacing, every channel in `ch` held there, and the press from the
+    median's last corner past FLICK_FROM of it eased in a straight line to flick.press at the end
+    (no such corner: the travel as it was)."""
+    corners = corners_mm(median)
+    corners = corners[corners > FLICK_FROM * median.length]
+    if len(corners) == 0:
+        return ref, s
+    gap = float(ref[-1] - ref[-2]) if len(ref) > 1 else 0.5
+    extra = np.arange(ref[-1] + gap, median.length + flick.past_mm + 1e-9, max(gap, 0.05))
+    ref, s = np.r_[ref, extra], np.r_[s, np.ones(len(extra))]
+    for k in ch:
+        ch[k] = np.r_[ch[k], np.full(len(extra), ch[k][-1])]
+    corner, end = float(corners[-1]), median.length + flick.past_mm
+    at_corner = float(np.interp(corner, ref, ch["press"]))
+    f = np.clip((ref - corner) / max(end - corner, 1e-6), 0.0, 1.0)
+    ch["press"] = np.where(ref >= corner, at_corner + (flick.press - at_corner) * f, ch["press"])
+    return ref, s
+
+
 def sample(plan: StrokePlan, median: Median, shape_length: float, step_mm: float, hover: float) -> Frames:
     """The plan's poses along `median`: the entry, the travel (frames `step_mm` x speed apart) and
     the exit. shape_length: the tuft length L (mm; the press's unit); hover: L above first contact
@@ -372,6 +419,8 @@ def sample(plan: StrokePlan, median: Median, shape_length: float, step_mm: float
     if plan.turn is not None:
         ch["press"] = ch["press"] + plan.turn.press * _at_corners(plan, median, ref, plan.turn.mm)
         ch["along"] = ch["along"] + plan.turn.reach_mm * _at_corners(plan, median, ref, CORNER_MM)
+    if plan.flick is not None:
+        ref, s = _flicked(plan.flick, median, ref, s, ch)
     travel_press = ch["press"]
     # entry: hovering over the landing point, then pressed while drawn back to the start
     e = plan.entry.frames
