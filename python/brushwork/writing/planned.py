@@ -13,17 +13,22 @@ import cv2
 import numpy as np
 
 from ..brush import Brush, Pose, between
+from ..paper import Paper
 from .plan import GlyphPlan, Median, StrokePlan, sample
 from .style import Style
 from .targets import loop_area
 
 TRAVEL_STEP_MM = 4.0      # mm the root moves a frame in the air between strokes
 TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
-# A frame in which the tuft changes its shape by more than SNAP_MM (a joint's move relative to the
-# root's) is solved again in up to MAX_SUBSTEPS even substeps, each deposited. Between two frames
-# the ink is swept along a linear blend of their surfaces, which follows a tuft that bends a little,
-# not one that snaps (a spread belly springing back as the press eases, a tail flicking round): a
-# blend of the two shapes pinches in the middle, a neck and a bead at a stroke's exit
+# On a paper whose ink the EGL pass renders, a frame in which the tuft changes its shape by more
+# than SNAP_MM (a joint's move relative to the root's) is solved again in up to MAX_SUBSTEPS even
+# substeps, each deposited. Between two frames that pass sweeps the ink along a linear blend of
+# their surfaces, which follows a tuft that bends a little, not one that snaps (a spread belly
+# springing back as the press eases, a tail flicking round): a blend of the two shapes pinches in
+# the middle, a neck and a bead at a stroke's exit. Ink as geometry takes the blends a tolerance
+# asks for between the two frames and joins them by their support bands; split there too, the
+# substeps' own solves left edges rougher (the 61 held-out characters at 2048 px: excess corners
+# 6.2 against 5.3 whole, roughness at sigma 12 px 0.072 against 0.068)
 SNAP_MM = 1.0
 MAX_SUBSTEPS = 8
 _SHIFT = 4                # cv2.fillPoly fixed-point bits
@@ -137,9 +142,10 @@ class PlanWriter:
         self.travel(f.root[0], float(f.azimuth[0]), float(f.tilt[0]))
         # the descent to the paper is written frame by frame (its tip's first touches are the
         # plan's entry); from the travel's first frame on, a frame whose tuft snaps is split on a
-        # paper. An InkGrid fills the hull of two frames' footprints, which no blend pinches
+        # paper the EGL pass inks. An InkGrid fills the hull of two frames' footprints, which no
+        # blend pinches
         landed = int(np.argmax(f.on)) if f.on.any() else len(f.on)
-        split = not isinstance(self.sink, InkGrid)
+        split = isinstance(self.sink, Paper)
         for j in range(1, len(f.press)):
             pose = Pose(tuple(f.root[j]), float(f.tilt[j]), float(f.azimuth[j]), float(f.twist[j]))
             self._step(pose, split=split and j > landed)
