@@ -125,6 +125,31 @@ def test_a_frame_in_which_the_tuft_snaps_is_written_in_substeps():
     assert len(calm.sink.roots) == 31
 
 
+@pytest.mark.parametrize("ink, splits", [("gl", True), ("geometry", False)])
+def test_a_snapping_frame_is_split_only_where_the_egl_pass_inks(ink, splits, monkeypatch):
+    """The EGL pass sweeps a linear blend of two frames' surfaces, which pinches a tuft that snaps:
+    there the travel's frames are split where they snap. Ink as geometry is written frame by frame."""
+    import brushwork as bw
+    from brushwork.paper import make_paper
+
+    asked = []
+    real = PlanWriter._step
+
+    def step(self, pose, split=False):
+        asked.append(split)
+        return real(self, pose, split)
+
+    monkeypatch.setattr(PlanWriter, "_step", step)
+    st = Style.load("kai-learned")
+    paper = make_paper(100, 100, 2, bw.Scene(samples=1), ink)
+    writer = PlanWriter(st, paper)
+    writer.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
+    plan = stroke_plan_from_json({"controls": {"along": [9.0], "across": [0.0], "press": [0.3], "tilt": [25.0],
+                                               "azimuth": [0.0], "twist": [0.0], "speed": [0.5]}}, "test")
+    writer.write_stroke(plan, Median(np.array([[20.0, 50.0], [60.0, 50.0]])))
+    assert len(asked) > 40 and any(asked) == splits
+
+
 def test_fit_writes_resumable_plans_that_render_close_to_the_outlines(tmp_path, capsys):
     out = tmp_path / "plans"
     assert main(["fit", "--chars", "凡它", "--source", SOURCE, "--out", str(out), "--no-progress"]) == 0
