@@ -1,4 +1,5 @@
 """A learned hand carries the turn gesture: each stroke's run past corners learned from the examples."""
+import json
 from pathlib import Path
 
 import numpy as np
@@ -6,7 +7,7 @@ import pytest
 
 from brushwork.glyphs import load_source
 from brushwork.writing import Style
-from brushwork.writing.hand import Hand, learn_hand
+from brushwork.writing.hand import FEATURES, Hand, learn_hand
 from brushwork.writing.plan import GlyphPlan, StrokePlan, Turn
 
 DATA = Path(__file__).parent / "data" / "mmah" / "graphics.txt"
@@ -67,8 +68,7 @@ def test_a_hand_writes_a_broader_style_with_deeper_presses_and_its_own_style_unc
 
 def test_a_hand_file_whose_width_is_not_a_width_names_the_field(tmp_path):
     path = tmp_path / "hand.json"
-    path.write_text('{"version": 2, "features": %s, "scale": [], "width_em": -1, "families": {}}\n'
-                    % str(list(__import__("brushwork.writing.hand", fromlist=["FEATURES"]).FEATURES)).replace("'", '"'),
-                    encoding="utf-8")
+    doc = {"version": 2, "features": list(FEATURES), "scale": [], "width_em": -1, "families": {}}
+    path.write_text(json.dumps(doc) + "\n", encoding="utf-8")
     with pytest.raises(ValueError, match="hand.json: width_em: expected a number in 0..0.5 or null"):
         Hand.load(path)

@@ -26,7 +26,7 @@ from ..brush import Brush, Pose
 from ..glyphs.score import beaded
 from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
-from .plan import lowpass
+from .plan import FLICK_FROM, lowpass
 from .style import Style, family
 from .targets import _centroid_and_width, centreline, footprint_area, joins, stroke_targets
 
@@ -41,7 +41,6 @@ TAPERING = ("tapered", "rising", "flared", "hook")
 # a hook's flick: the median past its last turn of more than FLICK_TURN (rad) over the stretch
 # from there to the end, where that turn lies past FLICK_FROM of the median
 FLICK_TURN = 1.0
-FLICK_FROM = 0.6
 # ... and the flick goes on FLICK_PAST_EM (em) straight past the median's end while the press eases
 # out: a Make Me a Hanzi median stops inside the hook, whose tip the trailing tuft reaches only
 # when the root runs on (stopped at the median's end, the hook ended in a blunt pad)

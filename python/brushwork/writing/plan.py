@@ -99,7 +99,7 @@ class Flick:
     press: float = 0.1
 
 
-FLICK_FROM = 0.6       # a flick eases from the median's last corner past this fraction of its length
+FLICK_FROM = 0.6       # a flick (the plan's, the driver's) eases from the median's last corner past this fraction of it
 CORNER_DEG = 45.0      # a corner: the median turns more than this ...
 CORNER_MM = 3.0        # ... between its chords this far behind and ahead
 
