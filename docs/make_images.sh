@@ -15,7 +15,7 @@ trap 'rm -rf "$work"' EXIT
 "$py" -c 'import sys, cv2, numpy as np; cv2.imwrite(sys.argv[3], np.hstack([cv2.imread(p) for p in sys.argv[1:3]]))' \
   "$work/yong_kai.png" "$work/yong_xing.png" docs/yong_2048.png
 "$bw" gallery -o docs/gallery.png --views docs/brush_view.png
-"$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 256 --out "$work/sheet" \
+"$bw" batch --chars "$(cat docs/sheet_chars.txt)" --size 1024 --sheet-px 320 --out "$work/sheet" \
   --sheet docs/sheet.png --no-progress
 # 3-D outlines: the meshes of $BRUSHWORK_MESHES (default the shared test meshes) in two styles
 "$py" -m brushwork.outline3d.sheet --meshes "${BRUSHWORK_MESHES:-../shared/data/meshes}" \

@@ -39,7 +39,7 @@ def mmah_glyphs():
 
 @pytest.fixture(scope="module")
 def written(mmah_glyphs):
-    """{char: (SIZE, SIZE) bool ink mask} of the driver's kai rendering."""
+    """{char: (SIZE, SIZE) bool ink mask} of kai's rendering."""
     return {c: render_glyph(g, SIZE).ink() > 0.5 for c, g in mmah_glyphs.items()}
 
 
@@ -193,15 +193,18 @@ def test_frames_at_q_max_are_the_frames_the_cap_stopped(monkeypatch):
     assert any(n > 1 and status == "converged" for status, _, n in statuses), "some frame split and converged"
 
 
-def test_render_writes_the_writings_figures(tmp_path, capsys):
+@pytest.mark.parametrize("style", ["kai", "kai-driver"])
+def test_render_writes_the_writings_figures(tmp_path, capsys, style):
     stats = tmp_path / "stats.json"
-    assert run_cli("render", "永和", "-o", tmp_path / "a.png", "--size", SIZE, "--stats", stats) == 0
+    assert run_cli("render", "永和", "-o", tmp_path / "a.png", "--size", SIZE, "--stats", stats, "--style", style) == 0
     doc = json.loads(stats.read_text())
+    # every frame is a solved step, from plans or by the driver's loops
     assert doc["text"] == "永和" and doc["frames"] == doc["solver_steps"] > 100
     assert 0 <= doc["frames_at_q_max"] <= doc["frames"] <= doc["substeps"]
     assert doc["iterations"] >= doc["frames"] and 0.0 <= doc["max_penetration_mm"] < 1.0
-    # 永 and 和 have 5 + 8 strokes, each tallied in its family
-    assert sum(n for _, n in doc["beads"].values()) == 13
+    # the driver tallies each of 永's and 和's 5 + 8 strokes in its family by its footprints
+    # frame by frame; plans are written open-loop and leave that counter empty
+    assert sum(n for _, n in doc["beads"].values()) == (13 if style == "kai-driver" else 0)
     # an unwritable stats file is refused before the work: no image either
     assert run_cli("render", "永", "-o", tmp_path / "b.png", "--stats", tmp_path / "no" / "s.json") == 2
     assert not (tmp_path / "b.png").exists() and "cannot write" in capsys.readouterr().err
@@ -394,6 +397,21 @@ def test_batch_writes_its_sheet_inside_an_out_folder_it_makes(tmp_path, capsys):
     assert cv2.imread(str(out / "sheet.png")) is not None and (out / "U+6C38.png").is_file()
 
 
+def test_batch_sheet_cells_take_the_size_asked_for(tmp_path, capsys):
+    out = tmp_path / "out"
+    heights = []
+    for px in (64, 128):                             # the second run finds the PNG there and only re-makes the sheet
+        assert run_cli("batch", "--chars", "永", "--out", out, "--size", 64, "--jobs", 1, "--source", MMAH,
+                       "--sheet", tmp_path / f"s{px}.png", "--sheet-px", px, "--no-progress") == 0
+        heights.append(cv2.imread(str(tmp_path / f"s{px}.png")).shape[0])
+    assert heights[1] - heights[0] >= 64              # a cell 64 px taller (and its label strip)
+    capsys.readouterr()
+    assert run_cli("batch", "--chars", "永", "--out", out, "--sheet", tmp_path / "x.png", "--sheet-px", 8,
+                   "--no-progress") == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--sheet-px 8" in err and not (tmp_path / "x.png").exists()
+
+
 def test_a_cleared_paper_writes_what_a_new_one_does(mmah_glyphs):
     # a batch worker keeps one paper and clears it for each character: nothing of the last
     # character may show in the next (ink, the stroke layer, its kept alpha, undo)
@@ -501,8 +519,12 @@ def _check_edge_figures(res):
     family over every stroke, the solver's tallies and the resolution line."""
     assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
     assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
-    assert sum(n for _, n in res["beads"].values()) == sum(len(g.strokes) for g in
-                                                            list(load_source(MMAH, None).values())[:2])
+    strokes = sum(len(g.strokes) for g in list(load_source(MMAH, None).values())[:2])
+    # kai writes from plans: no per-frame bead counter, the beads counted on the ink, the
+    # outlines' counted alike, over the strokes whose end lies clear of the others
+    assert res["beads"] == {} and "none taken" in bench_glyphs.table(res)
+    for key in ("ink_beads", "outline_beads"):
+        assert 0 < sum(n for _, n in res[key].values()) <= strokes
     assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
     assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
     assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)
@@ -660,7 +682,7 @@ def _step_stats(converged: bool, status: str) -> SimpleNamespace:
 ])
 def test_a_pressing_brush_that_floats_mid_stroke_is_pressed_deeper(touching, press, converged_first, floats,
                                                                     steps):
-    writer = Writer(_Paper(), Style.load("kai"))
+    writer = Writer(_Paper(), Style.load("kai-driver"))
     writer.brush = _FloatingOnce(converged_first, floats)
     writer.touching = touching
     writer._step(np.array([10.0, 10.0]), 0.0, press, 15.0, keep_down=True)
@@ -681,7 +703,7 @@ def test_the_writer_counts_a_stroke_broken_by_a_lift():
             contact, new = next(self.script)
             return SimpleNamespace(contact=contact, new_stroke=new)
 
-    writer = Writer(Replay(), Style.load("kai"))
+    writer = Writer(Replay(), Style.load("kai-driver"))
     writer.brush = SimpleNamespace(step=lambda pose: _step_stats(True, "converged"),
                                    footprint=lambda: [[(0.0, 0.0)]])
     for _ in range(3):
@@ -723,22 +745,22 @@ class _LeavesOnPress:
     (-0.2, True, 1),     # already off on the travel's last frame: straight up at once
 ])
 def test_the_lift_goes_straight_up_once_the_brush_has_left(leave_at, off_at_travel_end, exit_steps):
-    """The exit eases the press out over `exit_frames` (kai: 4); once a deposit leaves no ink,
+    """The exit eases the press out over `exit_frames` (kai-driver: 4); once a deposit leaves no ink,
     the next frame is the full lift and the last. (Eased on while the root rose slowly, the real
     tuft springing back brought its tip down again: a dot past the stroke's end, counted as a
     broken stroke.) The press is held at 0.2 L (no width loop), so the exit asks 0.12, 0.04,
     -0.04, -0.12 L."""
-    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
+    driver = replace(Style.load("kai-driver"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
-    before_exit = kai.air_frames + kai.entry_frames + len(_resample(pts, kai.step_mm)[0])
-    writer = Writer(_Paper(), kai)
-    writer.brush = _LeavesOnPress(writer.shape, kai.tilt_deg, leave_at, before_exit if off_at_travel_end else None)
+    before_exit = driver.air_frames + driver.entry_frames + len(_resample(pts, driver.step_mm)[0])
+    writer = Writer(_Paper(), driver)
+    writer.brush = _LeavesOnPress(writer.shape, driver.tilt_deg, leave_at, before_exit if off_at_travel_end else None)
     writer.press = 0.2
     writer.write_stroke(pts, "㇐")
     z = np.array([p.position[2] for p in writer.brush.poses])
     exit_z = z[before_exit + writer.holds:]       # (a brush off the paper in the travel is pressed again first)
     assert len(exit_z) == exit_steps
-    assert exit_z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+    assert exit_z[-1] == pytest.approx(root_height(writer.shape, driver.tilt_deg, -driver.hover))
     assert np.all(np.diff(exit_z) > 0.0)        # always up
 
 
@@ -776,19 +798,19 @@ def test_a_footprint_that_collapses_near_the_end_ends_the_stroke(fake, frac, end
     root after its moved centre, the tip leaving a bead past the dot's end), ends the travel there
     and the brush goes straight up (pressed on, the tip came down again and swelled into a bead
     after the neck). Earlier in the stroke the travel goes on."""
-    kai = replace(Style.load("kai"), jitter=0.0)
+    driver = replace(Style.load("kai-driver"), jitter=0.0)
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
-    travel = len(_resample(pts, kai.step_mm)[0])
-    start = kai.air_frames + kai.entry_frames
+    travel = len(_resample(pts, driver.step_mm)[0])
+    start = driver.air_frames + driver.entry_frames
     collapse_from = start + int(frac * travel)
-    writer = Writer(_Paper(), kai)
-    writer.brush = fake(writer.shape, kai.tilt_deg, collapse_from)
+    writer = Writer(_Paper(), driver)
+    writer.brush = fake(writer.shape, driver.tilt_deg, collapse_from)
     writer.write_stroke(pts, "㇐")
     poses = writer.brush.poses
     if ends_early:
         assert len(poses) == collapse_from + 1               # the collapsed frame, then one lift
-        assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
-        assert writer.press <= kai.press_start                # the next entry is no deeper than the first guess
+        assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, driver.tilt_deg, -driver.hover))
+        assert writer.press <= driver.press_start                # the next entry is no deeper than the first guess
     else:
         assert len(poses) > start + travel                    # the travel went on to its end
 
@@ -799,17 +821,17 @@ def test_the_heading_turns_smoothly_at_a_vertex_and_late_at_a_corner():
     frame) and lagging, so at a 折 the brush carries on past the corner before it swings round."""
     from brushwork.writing.targets import HEADING_LAG_MM, stroke_targets
 
-    kai = replace(Style.load("kai"), jitter=0.0)
+    driver = replace(Style.load("kai-driver"), jitter=0.0)
     vertex = np.array([[10.0, 50.0], [30.0, 50.0], [30.0 + 20.0 * np.cos(0.52), 50.0 - 20.0 * np.sin(0.52)]])
-    _, _, heading, _ = stroke_targets(kai, vertex, "㇐", 5.0)
+    _, _, heading, _ = stroke_targets(driver, vertex, "㇐", 5.0)
     assert np.degrees(np.max(np.abs(np.diff(heading)))) < 10.0
     assert np.degrees(heading[-1]) == pytest.approx(-30.0, abs=0.5)
     corner = np.array([[10.0, 50.0], [30.0, 50.0], [30.0, 30.0]])
-    path, s, heading, _ = stroke_targets(kai, corner, "㇕", 5.0)
+    path, s, heading, _ = stroke_targets(driver, corner, "㇕", 5.0)
     at = int(np.argmin(np.hypot(*(path - [30.0, 50.0]).T)))
     assert np.degrees(heading[at]) > -20.0          # at the corner: mostly along the 横 yet (unlagged: -45)
     half = int(np.argmax(np.degrees(heading) < -45.0))
-    assert s[half] - s[at] == pytest.approx(HEADING_LAG_MM, abs=kai.step_mm)
+    assert s[half] - s[at] == pytest.approx(HEADING_LAG_MM, abs=driver.step_mm)
     assert np.degrees(heading[-1]) == pytest.approx(-90.0, abs=1.0)
 
 
@@ -833,16 +855,16 @@ def test_a_brush_that_leaves_the_paper_near_the_end_ends_the_stroke():
     dot after a gap."""
     from brushwork.writing.driver import HOLD_FRAMES
 
-    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
+    driver = replace(Style.load("kai-driver"), jitter=0.0, width_gain=0.0, press_feedforward=0.0)
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
-    gone_from = kai.air_frames + kai.entry_frames + int(0.9 * len(_resample(pts, kai.step_mm)[0]))
-    writer = Writer(_Paper(), kai)
-    writer.brush = _Vanishes(writer.shape, kai.tilt_deg, gone_from)
+    gone_from = driver.air_frames + driver.entry_frames + int(0.9 * len(_resample(pts, driver.step_mm)[0]))
+    writer = Writer(_Paper(), driver)
+    writer.brush = _Vanishes(writer.shape, driver.tilt_deg, gone_from)
     writer.press = 0.2
     writer.write_stroke(pts, "㇐")
     poses = writer.brush.poses
     assert writer.holds == HOLD_FRAMES and len(poses) == gone_from + HOLD_FRAMES + 1
-    assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+    assert poses[-1].position[2] == pytest.approx(root_height(writer.shape, driver.tilt_deg, -driver.hover))
 
 
 def test_a_footprint_that_collapses_mid_travel_is_pressed_again():
@@ -851,12 +873,12 @@ def test_a_footprint_that_collapses_mid_travel_is_pressed_again():
     pressed PRESS_ON deeper and stepped again until it spreads, as a brush that floats off is:
     no sliver is laid, so no neck between the stroke and its flick. With taper_collapse 0 the
     sliver is laid."""
-    kai = replace(Style.load("kai"), jitter=0.0)
+    driver = replace(Style.load("kai-driver"), jitter=0.0)
     pts = np.array([[10.0, 50.0], [30.0, 50.0]])
-    sliver_from = kai.air_frames + kai.entry_frames + len(_resample(pts, kai.step_mm)[0]) // 2
-    for collapse, held in ((kai.taper_collapse, True), (0.0, False)):
-        writer = Writer(_Paper(), replace(kai, taper_collapse=collapse))
-        writer.brush = _SpringsOff(writer.shape, kai.tilt_deg, sliver_from)
+    sliver_from = driver.air_frames + driver.entry_frames + len(_resample(pts, driver.step_mm)[0]) // 2
+    for collapse, held in ((driver.taper_collapse, True), (0.0, False)):
+        writer = Writer(_Paper(), replace(driver, taper_collapse=collapse))
+        writer.brush = _SpringsOff(writer.shape, driver.tilt_deg, sliver_from)
         writer.write_stroke(pts, "㇐")
         z = [p.position[2] for p in writer.brush.poses[sliver_from - 1:sliver_from + 2]]
         if held:
@@ -898,30 +920,30 @@ def test_a_hooks_flick_eases_the_press_in_a_straight_line_to_flick_press():
     null the loops keep the corner's press."""
     from brushwork.writing.driver import FLICK_PAST_EM
 
-    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
-    writer, z, first, arc = _hook_frames(kai, -0.2)
+    driver = replace(Style.load("kai-driver"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    writer, z, first, arc = _hook_frames(driver, -0.2)
     roots = np.array([p.position[:2] for p in writer.brush.poses])
-    past = FLICK_PAST_EM * kai.em_mm
+    past = FLICK_PAST_EM * driver.em_mm
     hook = np.array([-6.0, 6.0]) / np.hypot(6.0, 6.0)
-    np.testing.assert_allclose(roots[first + len(arc) - 1] - roots[first + len(arc) - 1 - round(past / kai.step_mm)],
+    np.testing.assert_allclose(roots[first + len(arc) - 1] - roots[first + len(arc) - 1 - round(past / driver.step_mm)],
                                past * hook, atol=1e-6)
     flick = z[first:first + len(arc)]
-    press = (writer.shape.tuft_length * math.cos(math.radians(kai.tilt_deg)) - flick) / writer.shape.tuft_length
-    assert press[0] == pytest.approx(0.3) and press[-1] == pytest.approx(kai.flick_press)
+    press = (writer.shape.tuft_length * math.cos(math.radians(driver.tilt_deg)) - flick) / writer.shape.tuft_length
+    assert press[0] == pytest.approx(0.3) and press[-1] == pytest.approx(driver.flick_press)
     line = np.polyfit(arc, press, 1)
     assert np.abs(np.polyval(line, arc) - press).max() < 1e-9 and line[0] < 0.0
     assert len(z) == first + len(arc) + 1            # then one frame straight up
-    _, z_loops, _, _ = _hook_frames(replace(kai, flick_press=None), -0.2)
-    on_median = len(arc) - round(past / kai.step_mm)
-    assert z_loops[first + on_median - 1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, 0.3))
+    _, z_loops, _, _ = _hook_frames(replace(driver, flick_press=None), -0.2)
+    on_median = len(arc) - round(past / driver.step_mm)
+    assert z_loops[first + on_median - 1] == pytest.approx(root_height(writer.shape, driver.tilt_deg, 0.3))
 
 
 def test_a_flick_that_leaves_the_paper_ends_the_stroke_there():
     """A brush that leaves the paper on the flick (here once the press falls under 0.2 L) lifts
     there: the flick is not pressed back down."""
-    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
-    writer, z, first, arc = _hook_frames(kai, 0.2)
-    press = 0.3 + (kai.flick_press - 0.3) * arc / arc[-1]
+    driver = replace(Style.load("kai-driver"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    writer, z, first, arc = _hook_frames(driver, 0.2)
+    press = 0.3 + (driver.flick_press - 0.3) * arc / arc[-1]
     off = int(np.argmax(press <= 0.2))               # the first flick frame off the paper
     assert writer.holds == 0 and len(z) == first + off + 2
 
@@ -930,12 +952,12 @@ def test_a_flick_whose_footprint_collapses_ends_the_stroke_there():
     """A flick whose footprint shrinks within a frame to under taper_collapse of its width (the
     belly sprang off the paper) ends there and the brush goes straight up: flicked on, the tip
     came down again behind it, a bead at the hook's end."""
-    kai = replace(Style.load("kai"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
-    _, _, first, arc = _hook_frames(kai, -0.2)
+    driver = replace(Style.load("kai-driver"), jitter=0.0, width_gain=0.0, press_feedforward=0.0, corner_press=1.0)
+    _, _, first, arc = _hook_frames(driver, -0.2)
     sliver_from = first + 3            # the flick's fourth frame (1-based step count)
-    writer, z, _, _ = _hook_frames(kai, -0.2, lambda shape: _SpringsOff(shape, kai.tilt_deg, sliver_from))
+    writer, z, _, _ = _hook_frames(driver, -0.2, lambda shape: _SpringsOff(shape, driver.tilt_deg, sliver_from))
     assert len(arc) > 4 and len(z) == sliver_from + 1     # the collapsed frame, then one lift
-    assert z[-1] == pytest.approx(root_height(writer.shape, kai.tilt_deg, -kai.hover))
+    assert z[-1] == pytest.approx(root_height(writer.shape, driver.tilt_deg, -driver.hover))
 
 
 @pytest.mark.parametrize("tilt", [0.0, 30.0, 60.0])
@@ -984,25 +1006,25 @@ def _trace_exit(style, size=512):
 
 
 def test_a_tapering_exit_eases_off_and_lifts_where_the_belly_left():
-    """出锋 (kai's taper_from): past taper_from of the median the press only eases, and the
+    """出锋 (kai-driver's taper_from): past taper_from of the median the press only eases, and the
     footprint never swells again ahead of the lift (no bead); the exit lifts in place. (At 512 px, as `bench glyphs` writes: the ink's
     depletion, counted in pixels, feeds the brush's wetness and so its adhesion; at 128 px this
     stroke's belly comes down again during the lift.)"""
-    kai = Style.load("kai")
-    assert kai.taper_from is not None
-    rows, exit_at = _trace_exit(kai)
+    driver = Style.load("kai-driver")
+    assert driver.taper_from is not None
+    rows, exit_at = _trace_exit(driver)
     widths = [r[1] for r in rows]
     assert not beaded(widths)
     travel = [r[0] for r in rows[:exit_at]]
     # the travel's frames past taper_from: the first not kept down after those that are
     kept = [r[3] for r in rows[:exit_at]]
     start = kept.index(False, kept.index(True))
-    assert start >= int(kai.taper_from * len(travel))
+    assert start >= int(driver.taper_from * len(travel))
     assert all(b <= a + 1e-12 for a, b in zip(travel[start:], travel[start + 1:]))
     exit_roots = np.array([r[2] for r in rows[exit_at:]])
     # (fewer than exit_frames when the brush leaves the paper early: the rest of the lift is one frame)
-    assert 1 <= len(exit_roots) <= kai.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
-    assert rows[-1][0] == -kai.hover
+    assert 1 <= len(exit_roots) <= driver.exit_frames and np.ptp(exit_roots, axis=0).max() < 1e-9
+    assert rows[-1][0] == -driver.hover
 
 
 def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
@@ -1015,7 +1037,7 @@ def test_a_planned_stroke_comes_closer_to_its_aim_than_the_loops(monkeypatch):
     # (the strokes aimed as the medians say, free ends and joined ends alike: join_reach_em off)
     # (on the seed's p_i, brush {}: with kai's spread_reach the loops alone already come within
     # 7% of what three passes reach, and no shipped style rehearses)
-    planned = replace(Style.load("kai"), plan_passes=3, join_reach_em=None, brush={})
+    planned = replace(Style.load("kai-driver"), plan_passes=3, join_reach_em=None, brush={})
     errors, rehearse = [], Writer._rehearse
 
     def measured(self, aim, *rest):
@@ -1064,8 +1086,8 @@ def test_the_driver_moves_the_brush_alike_at_any_resolution():
     """The output size only samples the scene: without the ink's depletion (whose spent ink is
     counted on the paper's pixels, and feeds the brush's wetness) the writer gives the brush the
     same poses at 64 px as at 256 px, frame for frame."""
-    kai = Style.load("kai")
-    dry = replace(kai, scene=dict(kai.scene, depletion=False))
+    driver = Style.load("kai-driver")
+    dry = replace(driver, scene=dict(driver.scene, depletion=False))
     small, large = _poses_written(dry, 64), _poses_written(dry, 256)
     assert small.shape == large.shape and len(small) > 100
     np.testing.assert_array_equal(small, large)
@@ -1107,11 +1129,11 @@ def test_a_stroke_that_starts_on_another_starts_in_its_ink():
     assert joins([bar, hung + [0.0, -2.0]], 1, 5.0) == (False, False)
     assert joins([bar, hung], 0, 5.0) == (False, False)         # the bar's ends are free
     glyph = Glyph("x", 0x78, [Stroke(bar / 100.0, "㇐"), Stroke(hung / 100.0, "㇑")], "test", (0.0, 0.0, 1.0, 1.0))
-    kai = Style.load("kai")
-    assert kai.join_reach_em is not None and kai.join_reach_em > (kai.start_reach_em or 0.0)
-    ink = {r: render_glyph(glyph, 256, replace(kai, join_reach_em=r)).ink() > 0.5 for r in (None, kai.join_reach_em)}
+    driver = Style.load("kai-driver")
+    assert driver.join_reach_em is not None and driver.join_reach_em > (driver.start_reach_em or 0.0)
+    ink = {r: render_glyph(glyph, 256, replace(driver, join_reach_em=r)).ink() > 0.5 for r in (None, driver.join_reach_em)}
     one = np.ones((256, 256), bool)
-    assert pieces(ink[kai.join_reach_em], one)[0] == 0                # one piece
+    assert pieces(ink[driver.join_reach_em], one)[0] == 0                # one piece
     assert pieces(ink[None], one)[0] == 1                             # kept inside the median: apart
 
 

@@ -193,11 +193,14 @@ def test_both_papers_take_the_projected_footprint():
 
 
 
-@pytest.mark.parametrize("char", "永和明")
-def test_a_character_written_both_ways_is_the_same_ink(char):
-    """kai's writing of a character at 512 px, inked by the geometry and by the GL footprint
-    pass: the two rasters overlap with IoU >= 0.99 (both draw the seed's projected footprint;
-    what is left is the GL pass's slides at a lift and its pixel sampling)."""
+@pytest.mark.parametrize("char, style, floor", [("永", "kai-driver", 0.99), ("和", "kai-driver", 0.99),
+                                                ("明", "kai-driver", 0.99), ("永", "kai", 0.97)])
+def test_a_character_written_both_ways_is_the_same_ink(char, style, floor):
+    """A character at 512 px, inked by the geometry and by the GL footprint pass. The driver's
+    motions are the same on both papers: the rasters overlap with IoU >= 0.99 (both draw the
+    seed's projected footprint; what is left is the GL pass's slides at a lift and its pixel
+    sampling). Plans split a frame in which the tuft snaps into substeps on a GL paper only
+    (planned.SNAP_MM), each solved: kai's two inks differ by those solves too."""
     from pathlib import Path
 
     from brushwork.glyphs import load_source
@@ -205,8 +208,9 @@ def test_a_character_written_both_ways_is_the_same_ink(char):
     from brushwork.writing import text_paper
 
     glyph = load_source(f"mmah:{Path(__file__).parent / 'data' / 'mmah' / 'graphics.txt'}", char)[char]
-    geometry, gl = (text_paper([glyph], 512, "kai", ink=ink).ink() > 0.5 for ink in ("geometry", "gl"))
-    assert iou(geometry, gl) >= 0.99
+    geometry, gl = (text_paper([glyph], 512, style, ink=ink).ink() > 0.5 for ink in ("geometry", "gl"))
+    assert iou(geometry, gl) >= floor
+
 
 def test_a_long_move_wets_each_slid_copy_of_the_footprint_once():
     """The wetted paper a deposit spends ink on is its footprint slid back along the move, 64

@@ -47,7 +47,7 @@ def test_a_hand_writes_a_broader_style_with_deeper_presses_and_its_own_style_unc
     from brushwork.writing.hand import widened
     from brushwork.writing.plan import BOUNDS
 
-    st = Style.load("kai-learned")
+    st = Style.load("kai")
     hand = Hand.cached(st.hand_path())
     assert hand.width_em == st.width_em
     glyph = load_source(f"mmah:{DATA}", "永")["永"]

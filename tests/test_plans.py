@@ -85,11 +85,11 @@ class _ShapeSink:
 
 
 def _snap_writer():
-    """A writer whose kai-learned tuft is pressed 0.3 L and dragged 6 mm, bent behind its root."""
+    """A writer whose kai tuft is pressed 0.3 L and dragged 6 mm, bent behind its root."""
     from brushwork.brush import Pose
     from brushwork.recorded import root_height
 
-    writer = PlanWriter(Style.load("kai-learned"), None)
+    writer = PlanWriter(Style.load("kai"), None)
     writer.sink = _ShapeSink()
     z = root_height(writer.brush.model, 15.0, 0.3)
     for k in range(30):
@@ -140,7 +140,7 @@ def test_a_snapping_frame_is_split_only_where_the_egl_pass_inks(ink, splits, mon
         return real(self, pose, split)
 
     monkeypatch.setattr(PlanWriter, "_step", step)
-    st = Style.load("kai-learned")
+    st = Style.load("kai")
     paper = make_paper(100, 100, 2, bw.Scene(samples=1), ink)
     writer = PlanWriter(st, paper)
     writer.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
@@ -231,7 +231,7 @@ def test_a_bulb_at_a_strokes_end_is_a_bead_on_the_ink():
     assert ink_beads(glyph, bulb.astype(bool), masks) == {"plain": [1, 1]}
 
 
-@pytest.mark.parametrize("style", ["kai-learned", "xing-learned"])
+@pytest.mark.parametrize("style", ["kai", "xing"])
 def test_the_shipped_learned_styles_write_from_medians_alone(style, tmp_path):
     import cv2
 
@@ -247,7 +247,7 @@ def test_a_learned_hand_hands_each_strokes_ink_to_the_caller_as_the_driver_does(
     from brushwork.font.variable import stroke_images
 
     glyph = load_source(SOURCE, "明")["明"]
-    images = stroke_images(glyph, 128, Style.load("kai-learned"))
+    images = stroke_images(glyph, 128, Style.load("kai"))
     assert len(images) == len(glyph.strokes)
     inked = [int((np.asarray(im).min(axis=-1) < 128).sum()) for im in images]
     assert all(n > 0 for n in inked), inked

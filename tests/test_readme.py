@@ -92,7 +92,7 @@ def _close(made: Path, kept: Path) -> None:
     (["gallery", "-o", "{tmp}/gallery.png", "--views", "{tmp}/brush_view.png"], "gallery.png",
      "docs/gallery.png"),
     (["batch", "--chars", (ROOT / "docs" / "sheet_chars.txt").read_text(encoding="utf-8").strip(),
-      "--size", "256", "--out", "{tmp}/chars", "--sheet", "{tmp}/sheet.png", "--no-progress"],
+      "--size", "1024", "--sheet-px", "320", "--out", "{tmp}/chars", "--sheet", "{tmp}/sheet.png", "--no-progress"],
      "sheet.png", "docs/sheet.png"),
 ])
 def test_shown_image_is_what_its_command_writes(tmp_path, argv, made, kept):

@@ -23,6 +23,23 @@ def between(a: Pose, b: Pose, t: float) -> Pose:
                 lerp_angle(a.azimuth_deg, b.azimuth_deg, t), lerp_angle(a.twist_deg, b.twist_deg, t))
 
 
+def solver_tally() -> dict:
+    """An empty tally of solved frames (see tally_step)."""
+    return {"steps": 0, "steps_at_q_max": 0, "iterations": 0, "substeps": 0, "max_penetration_mm": 0.0}
+
+
+def tally_step(tally: dict, stats: _core.StepStats) -> None:
+    """Add one step's `StepStats` to `tally`: steps, steps whose solve stopped at the iteration cap
+    q_max unconverged (a split frame's iterations add up over its sub-steps, so a count of
+    iterations alone says nothing), SQP iterations, sub-steps, the deepest penetration of the
+    shrunk sections (mm)."""
+    tally["steps"] += 1
+    tally["steps_at_q_max"] += int(stats.status == "iteration cap")
+    tally["iterations"] += stats.iterations
+    tally["substeps"] += stats.substeps
+    tally["max_penetration_mm"] = max(tally["max_penetration_mm"], stats.max_penetration)
+
+
 class Brush(_core.Brush):
     """One tuft of the Chu-Tai brush (a spine of n joints with lateral nodes and a swept surface).
 

@@ -300,8 +300,9 @@ def table(result: dict) -> str:
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["ink_beads"].items())
              + " (the outlines themselves, counted alike: "
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["outline_beads"].items()) + ")",
-             "beads at exits (strokes whose footprint necks and swells again at the end): "
-             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items()),
+             ("beads at exits (strokes whose footprint necks and swells again at the end): "
+              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items())) if result["beads"] else
+             "beads at exits by the frame-by-frame counter: none taken (the style writes from plans; the ink's count is above)",
              f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "
              f"{result['solver']['substeps']} sub-steps, deepest penetration "
              f"{result['solver']['max_penetration_mm']:.4f} mm",
@@ -332,8 +333,8 @@ REFERENCE_SOLVE = {"q_max": 100000, "tolerance": 1e-10}   # "no iteration cap", 
 
 
 def written_ink(glyph, overrides: dict | None = None, size: int = 512, style: str = "kai") -> np.ndarray:
-    """(size, size) bool ink mask of glyph written by the driver with a brush whose model fields
-    are changed by `overrides` (e.g. {"q_max": 5}); the driver's own loops run as in a batch."""
+    """(size, size) bool ink mask of glyph written in `style` with a brush whose model fields are
+    changed by `overrides` (e.g. {"q_max": 5}), as a batch writes it."""
     st = Style.load(style)
     paper = writing_paper(st, size)
     writer = Writer(paper, st, 0)

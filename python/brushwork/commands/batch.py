@@ -18,6 +18,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help=f"worker processes (default: the CPU count, {os.cpu_count()})")
     p.add_argument("--sheet", metavar="FILE", help="also write a contact sheet of the characters to FILE, "
                                                    "beside a reference Kai font when one is installed")
+    p.add_argument("--sheet-px", type=int, default=192, metavar="N",
+                   help="the contact sheet's cell size in px, 32 to 1024 (default 192)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     plans_argument(p)
     p.add_argument("--executor", default="local", help="local (worker processes) or ray (a Ray cluster: "
@@ -33,6 +35,8 @@ def handle(args: argparse.Namespace) -> int:
     chars = parse_charset(args.chars) if args.chars is not None else read_charset(args.charset)
     if not chars:
         raise ValueError("no characters to render")
+    if not 32 <= args.sheet_px <= 1024:
+        raise ValueError(f"--sheet-px {args.sheet_px}: the cell size must be 32 to 1024 px")
     if args.sheet:
         from ..bench.report import check_writable
 
@@ -50,7 +54,7 @@ def handle(args: argparse.Namespace) -> int:
         from ..sheet import contact_sheet
 
         failed = dict(res.failed)
-        print(f"wrote {contact_sheet(batch.sheet_cells(chars, args.out, failed), args.sheet)}")
+        print(f"wrote {contact_sheet(batch.sheet_cells(chars, args.out, failed), args.sheet, args.sheet_px)}")
     if res.interrupted:
         return 130
     if res.failed:

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..brush import Brush, Pose
+from ..brush import Brush, Pose, solver_tally, tally_step
 from ..glyphs.score import beaded
 from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
@@ -78,11 +78,7 @@ class Writer:
         self.ending_area = None           # mm2: the footprint's area on the last frame of a stroke's end (_collapsed)
         self.corner_press = 0.0           # L: the press at a hook's corner, eased from along its flick
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
-        # the solver over every frame written: steps, steps whose solve stopped at the iteration
-        # cap q_max unconverged (a split frame's iterations add up over its sub-steps, so a
-        # count of iterations alone says nothing), SQP iterations, sub-steps, the deepest
-        # penetration of the shrunk sections (mm)
-        self.solver = {"steps": 0, "steps_at_q_max": 0, "iterations": 0, "substeps": 0, "max_penetration_mm": 0.0}
+        self.solver = solver_tally()      # the solver over every frame written (brush.tally_step)
         self.planning = False             # rehearsing a stroke (no deposit, no tallies)
         self.rehearsed = 0                # solver steps spent rehearsing
         self.root = np.zeros(2)           # mm: the root's xy on the last frame
@@ -95,12 +91,7 @@ class Writer:
         if self.planning:
             self.rehearsed += 1
             return stats
-        tally = self.solver
-        tally["steps"] += 1
-        tally["steps_at_q_max"] += int(stats.status == "iteration cap")
-        tally["iterations"] += stats.iterations
-        tally["substeps"] += stats.substeps
-        tally["max_penetration_mm"] = max(tally["max_penetration_mm"], stats.max_penetration)
+        tally_step(self.solver, stats)
         return stats
 
     def _step(self, target: np.ndarray, heading: float, press: float, tilt: float, keep_down: bool = False) -> None:
@@ -404,7 +395,7 @@ class Writer:
         with its bottom-left corner at `origin_mm`; on_stroke as in write."""
         from .planned import PlanWriter
 
-        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm)
+        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm, self.solver)
         writer.write(glyph, plan, on_stroke)
         self.frames += writer.frames
 
@@ -417,7 +408,7 @@ class Writer:
         if st.hand is not None:           # a learned hand: the plans from the medians alone
             from .hand import Hand
 
-            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st), origin_mm, on_stroke)
+            self.write_planned(glyph, Hand.cached(st.hand_path()).plan(glyph, st, self.rng), origin_mm, on_stroke)
             return
         self.brush.load_ink(total_mm2=st.ink_mm2, excess=0.0)
         o = np.asarray(origin_mm, dtype=float)

@@ -389,13 +389,16 @@ def _at_corners(plan: StrokePlan, median: Median, ref: np.ndarray, width: float)
 def _flicked(flick: Flick, median: Median, ref: np.ndarray, s: np.ndarray,
              ch: dict) -> tuple[np.ndarray, np.ndarray]:
     """The travel's reference points `ref` (mm of arc) and s run on to flick.past_mm past the
-    median's end at their last spacing, every channel in `ch` held there, and the press from the
-    median's last corner past FLICK_FROM of it eased in a straight line to flick.press at the end
-    (no such corner: the travel as it was)."""
+    median's end at their last spacing, every channel in `ch` held there, and the press eased in a
+    straight line to flick.press at the end from the median's last corner past FLICK_FROM of it (a
+    hook's turn), or with no such corner from the deepest press past FLICK_FROM (a 捺's foot)."""
     corners = corners_mm(median)
     corners = corners[corners > FLICK_FROM * median.length]
     if len(corners) == 0:
-        return ref, s
+        late = (ref > FLICK_FROM * median.length) & (ref <= median.length)
+        if not late.any():
+            return ref, s
+        corners = np.array([float(ref[late][np.argmax(ch["press"][late])])])
     gap = float(ref[-1] - ref[-2]) if len(ref) > 1 else 0.5
     extra = np.arange(ref[-1] + gap, median.length + flick.past_mm + 1e-9, max(gap, 0.05))
     ref, s = np.r_[ref, extra], np.r_[s, np.ones(len(extra))]

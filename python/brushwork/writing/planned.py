@@ -12,7 +12,7 @@ import math
 import cv2
 import numpy as np
 
-from ..brush import Brush, Pose, between
+from ..brush import Brush, Pose, between, solver_tally, tally_step
 from ..paper import Paper
 from .plan import GlyphPlan, Median, StrokePlan, sample
 from .style import Style
@@ -76,14 +76,17 @@ class InkGrid:
 
 class PlanWriter:
     """Writes glyphs from plans with one brush, its state (bend, plasticity, ink) carried from
-    stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid."""
+    stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid. `solver`: a
+    brush.solver_tally that receives every step's figures (a new one when None)."""
 
-    def __init__(self, style: Style, sink, brush: Brush | None = None, origin_mm=(0.0, 0.0)):
+    def __init__(self, style: Style, sink, brush: Brush | None = None, origin_mm=(0.0, 0.0),
+                 solver: dict | None = None):
         self.style, self.sink = style, sink
         self.origin = np.asarray(origin_mm, dtype=float)
         self.brush = brush if brush is not None else Brush(style.model())
         self.L = self.brush.model.tuft_length
         self.frames = 0
+        self.solver = solver if solver is not None else solver_tally()
         self.pose: Pose | None = None      # the last frame's pose
 
     def medians_mm(self, glyph) -> list[Median]:
@@ -108,20 +111,24 @@ class PlanWriter:
         last, self.pose = self.pose, pose
         self.frames += 1
         if not split or last is None:
-            self.brush.step(pose)
+            self._solve(pose)
             return self._deposit()
         saved, shape = self.brush.state().copy(), self._shape()
-        self.brush.step(pose)
+        stats = self.brush.step(pose)
         jump = float(np.max(np.linalg.norm(self._shape() - shape, axis=1)))
         k = min(math.ceil(jump / SNAP_MM), MAX_SUBSTEPS)
         if k <= 1:
+            tally_step(self.solver, stats)
             return self._deposit()
         self.brush.set_state(saved)
         touched = False
         for j in range(1, k + 1):
-            self.brush.step(between(last, pose, j / k))
+            self._solve(between(last, pose, j / k))
             touched = self._deposit() or touched
         return touched
+
+    def _solve(self, pose: Pose) -> None:
+        tally_step(self.solver, self.brush.step(pose))
 
     def _shape(self) -> np.ndarray:
         """(n, 3) mm: the tuft's joints relative to its root."""

@@ -45,7 +45,7 @@ What is measured (error against run time, one frame problem at a time):
   how far our trajectory has drifted from the reference's; skeleton error max_i |O_i - O_i*| (mm, and as a
   fraction of the tuft length L); footprint error 1 - IoU of the footprint polygons (shapely when
   installed, else a raster of both polygon sets); and at the end of the pipeline (full runs, not
-  ``--quick``) the ink-mask IoU of 永 written by the kai driver at 512 px with each setting's
+  ``--quick``) the ink-mask IoU of 永 written in kai at 512 px with each setting's
   brush against the same written with a tight solve (``INK_MASK_IOU``, ``bench.glyphs.InkMaskIoU``).
 * **Time per frame**: wall time in Python around ``step()`` for ours (best of ``repeats`` runs
   per frame), around the solve call for peers (``prepare`` is not counted for them).

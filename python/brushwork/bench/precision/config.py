@@ -31,7 +31,7 @@ def _ink_mask_iou_default() -> Callable[[dict], float]:
 
 
 INK_MASK_IOU: Optional[Callable[[], Callable[[dict], float]]] = _ink_mask_iou_default
-INK_NOTE = ("永 (bundled glyph) written by the kai driver at 512 px with each setting's brush, against the "
+INK_NOTE = ("永 (bundled glyph) written in kai at 512 px with each setting's brush, against the "
             "same written with q_max 100000 and tolerance 1e-10; full runs only (not --quick)")
 FLOAT_NOTE = "not built: the core is double only (cpp/include/brushwork/brush.hpp)"
 TUFTS_NOTE = ("tufts: the main tuft and its children, split from the first touch (sprout_spread 0); "
