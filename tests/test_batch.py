@@ -567,6 +567,16 @@ def test_bench_glyphs_measures_the_ink_render_makes_and_the_path_it_is_asked_for
         bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, ink="paint")
 
 
+def test_bench_glyphs_smooths_the_roughness_over_the_sigma_asked_for():
+    fine, coarse = (bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, resolution=0, sheet=None,
+                                     sigma=s) for s in (3.0, 12.0))
+    # the same ink: a longer smoothing takes more of the contour's shape as waver
+    assert fine["mean_iou"] == coarse["mean_iou"] and fine["roughness"] != coarse["roughness"]
+    assert "sigma 12 px" in bench_glyphs.table(coarse) and coarse["sigma"] == 12.0
+    with pytest.raises(ValueError, match="--sigma 0"):
+        bench_glyphs.run(MMAH, size=SIZE, count=1, jobs=1, progress=False, sigma=0.0)
+
+
 def test_contact_sheet_with_and_without_a_reference_font(tmp_path):
     img = np.full((50, 50), 255, np.uint8)
     img[10:40, 20:30] = 0

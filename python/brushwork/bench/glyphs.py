@@ -12,6 +12,7 @@ reference Kai font when one is installed.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import time
 
@@ -20,7 +21,7 @@ import numpy as np
 from ..glyphs import load_source
 from ..glyphs.model import Glyph
 from ..glyphs.sources import outlines_path
-from ..glyphs.score import PARTS, corner_count, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
+from ..glyphs.score import EDGE_SIGMA_PX, PARTS, corner_count, edge_figures, error_by_part, has_outlines, iou, pieces, stroke_masks
 from ..writing.fit import ink_widths
 from ..writing.style import family
 from ..pool import Progress, parallel_map
@@ -33,8 +34,8 @@ OVERLAY_PX = 256      # px side of each overlay kept for the contact sheet
 _JOB: dict = {}
 
 
-def _init(style: str, size: int, seed: int, ink: str = "auto") -> None:
-    _JOB.update(style=Style.load(style), size=size, seed=seed, ink=ink)
+def _init(style: str, size: int, seed: int, ink: str = "auto", sigma: float = EDGE_SIGMA_PX) -> None:
+    _JOB.update(style=Style.load(style), size=size, seed=seed, ink=ink, sigma=sigma)
 
 
 def overlay(ink: np.ndarray, ref: np.ndarray) -> np.ndarray:
@@ -85,7 +86,7 @@ def _score(task: tuple) -> tuple:
                   "frames": counts["frames"], "held_frames": counts["holds"], "beads": counts["beads"],
                   "solver": counts["solver"], "excess_corners": corner_count(ink) - corner_count(ref),
                   "ink_beads": ink_beads(glyph, ink, masks, em_mm), "outline_beads": ink_beads(glyph, ref, masks, em_mm),
-                  **_edges(ink, ref, pen)}
+                  **_edges(ink, ref, pen, _JOB["sigma"])}
         return char, scores, time.perf_counter() - t0, small, None
     except Exception as err:        # one character's failure is reported, the rest go on
         return char, None, time.perf_counter() - t0, None, f"{type(err).__name__}: {err}"
@@ -113,14 +114,14 @@ def ink_beads(glyph: Glyph, ink: np.ndarray, masks: list[np.ndarray], em_mm: flo
     return out
 
 
-def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
+def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray, sigma: float = EDGE_SIGMA_PX) -> dict:
     """The edge figures of the ink and of the round pen against the outlines (bool masks of one
-    size): excess roughness (px: the mask's edge_figures roughness minus the outlines'), perimeter
-    ratio (its contour length / the outlines'), extra pieces (the round pen's; the ink's are
-    counted with the specks)."""
-    r_ref, p_ref = edge_figures(ref)
-    r_ink, p_ink = edge_figures(ink)
-    r_pen, p_pen = edge_figures(pen)
+    size): excess roughness (px: the mask's edge_figures roughness at `sigma` minus the
+    outlines'), perimeter ratio (its contour length / the outlines'), extra pieces (the round
+    pen's; the ink's are counted with the specks)."""
+    r_ref, p_ref = edge_figures(ref, sigma)
+    r_ink, p_ink = edge_figures(ink, sigma)
+    r_pen, p_pen = edge_figures(pen, sigma)
     return {"roughness": r_ink - r_ref, "perimeter_ratio": p_ink / max(p_ref, 1.0),
             "round_pen_roughness": r_pen - r_ref, "round_pen_perimeter_ratio": p_pen / max(p_ref, 1.0),
             "round_pen_extra_pieces": pieces(pen, ref)[0]}
@@ -128,24 +129,28 @@ def _edges(ink: np.ndarray, ref: np.ndarray, pen: np.ndarray) -> dict:
 
 def run(source: str, size: int = 512, count: int | None = None, style: str = "kai", seed: int = 0,
         jobs: int = 1, sheet: str | None = None, progress: bool = True, resolution: int = 3,
-        ink: str = "auto") -> dict:
+        ink: str = "auto", sigma: float = EDGE_SIGMA_PX) -> dict:
     """Score the driver against the outlines of `source` (every character, or the first `count`),
     its ink made on the path `ink` picks for the style's scene (paper.ink_path; auto: as `brushwork
-    render` makes it); the first `resolution` characters are written again at 2 and 4 times the size."""
+    render` makes it); the first `resolution` characters are written again at 2 and 4 times the size;
+    `sigma`: px along the contour that the roughness smooths over (scale it with the size to
+    compare sizes)."""
     size = check_size(size)
+    if not (math.isfinite(sigma) and sigma > 0.0):
+        raise ValueError(f"--sigma {sigma}: the roughness's smoothing must be a positive number of px")
     ink = ink_path(Scene(**Style.load(style).scene), ink)
     errors: list = []
     glyphs = _scorable(source, count, errors)
     rows, overlays, failed = {}, {}, [(getattr(e, "char", "?"), str(e)) for e in errors]
     t0 = time.perf_counter()
-    for char, score, secs, small, err in _scored(glyphs, jobs, (style, size, seed, ink), progress):
+    for char, score, secs, small, err in _scored(glyphs, jobs, (style, size, seed, ink, sigma), progress):
         if err is None:
             rows[char], overlays[char] = dict(score, seconds=secs), small
         else:
             failed.append((char, err))
     wall = time.perf_counter() - t0
     order = [c for c in glyphs if c in rows]
-    result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs, "ink": ink,
+    result = {"source": source, "size": size, "style": style, "seed": seed, "jobs": jobs, "ink": ink, "sigma": sigma,
               "characters": len(order), "failed": failed, **_summary(rows, order),
               "chars_per_s": len(order) / wall if wall > 0 else None}
     result["resolution"] = resolution_agreement([glyphs[c] for c in order[:resolution]], size, style, seed, ink)
@@ -288,7 +293,7 @@ def table(result: dict) -> str:
              "",
              "| edge figures against the outlines | brush | round pen |",
              "|---|---|---|",
-             f"| excess edge roughness (px; contour vs its Gaussian-smoothed copy, sigma 6 px), mean "
+             f"| excess edge roughness (px; contour vs its Gaussian-smoothed copy, sigma {result['sigma']:g} px), mean "
              f"| {result['roughness']:.3f} | {result['round_pen_roughness']:.3f} |",
              f"| perimeter ratio (ink / outlines), median | {result['perimeter_ratio']:.3f} "
              f"| {result['round_pen_perimeter_ratio']:.3f} |",
@@ -384,6 +389,9 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--ink", choices=("auto", "geometry", "gl"), default="auto",
                    help="how the ink is made, as for render: auto (the default: geometry for an opaque style), "
                         "geometry or gl")
+    p.add_argument("--sigma", type=float, default=EDGE_SIGMA_PX, metavar="PX",
+                   help=f"px along the contour the roughness smooths over (default {EDGE_SIGMA_PX:g}; "
+                        "12 at 2048 px compares with 6 at 1024)")
     p.add_argument("--resolution", type=int, default=3, metavar="N",
                    help="characters written again at 2 and 4 times the size, their ink compared (default 3; 0: none)")
 
@@ -396,5 +404,5 @@ def handle(args: argparse.Namespace) -> int:
     source = args.source or f"mmah:{outlines_path()}"
     return run_benchmark("glyphs", args, lambda: run(source, args.size, args.count, args.style, args.seed,
                                                      args.jobs, args.sheet or None, resolution=args.resolution,
-                                                     ink=args.ink),
+                                                     ink=args.ink, sigma=args.sigma),
                          table)
