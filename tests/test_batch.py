@@ -202,9 +202,9 @@ def test_render_writes_the_writings_figures(tmp_path, capsys, style):
     assert doc["text"] == "永和" and doc["frames"] == doc["solver_steps"] > 100
     assert 0 <= doc["frames_at_q_max"] <= doc["frames"] <= doc["substeps"]
     assert doc["iterations"] >= doc["frames"] and 0.0 <= doc["max_penetration_mm"] < 1.0
-    # the driver tallies each of 永's and 和's 5 + 8 strokes in its family by its footprints
-    # frame by frame; plans are written open-loop and leave that counter empty
-    assert sum(n for _, n in doc["beads"].values()) == (13 if style == "kai-driver" else 0)
+    # 永 and 和 have 5 + 8 strokes, each tallied in its family (by its footprints frame by frame,
+    # whether the driver steers them or a plan is written)
+    assert sum(n for _, n in doc["beads"].values()) == 13
     # an unwritable stats file is refused before the work: no image either
     assert run_cli("render", "永", "-o", tmp_path / "b.png", "--stats", tmp_path / "no" / "s.json") == 2
     assert not (tmp_path / "b.png").exists() and "cannot write" in capsys.readouterr().err
@@ -519,12 +519,10 @@ def _check_edge_figures(res):
     family over every stroke, the solver's tallies and the resolution line."""
     assert 0.9 < res["perimeter_ratio"] < 1.5 and 0.9 < res["round_pen_perimeter_ratio"] < 1.5
     assert abs(res["roughness"]) < 1.0 and abs(res["round_pen_roughness"]) < 1.0
+    # beads tallied per stroke: by the footprints frame by frame, on the ink, on the outlines
     strokes = sum(len(g.strokes) for g in list(load_source(MMAH, None).values())[:2])
-    # kai writes from plans: no per-frame bead counter, the beads counted on the ink, the
-    # outlines' counted alike, over the strokes whose end lies clear of the others
-    assert res["beads"] == {} and "none taken" in bench_glyphs.table(res)
-    for key in ("ink_beads", "outline_beads"):
-        assert 0 < sum(n for _, n in res[key].values()) <= strokes
+    for key in ("beads", "ink_beads", "outline_beads"):
+        assert sum(n for _, n in res[key].values()) == strokes, key
     assert [r[0] for r in res["resolution"]] == [r["char"] for r in res["rows"]]
     assert all(0.5 < a <= 1.0 and 0.5 < b <= 1.0 for _, a, b in res["resolution"])
     assert res["solver"]["steps"] >= res["frames"] and "excess edge roughness" in bench_glyphs.table(res)

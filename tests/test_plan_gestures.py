@@ -205,3 +205,21 @@ def test_a_learned_hand_flicks_its_hooks_and_its_feet_and_no_other_stroke():
     fams = [family(s.kind) for s in glyph.strokes]
     assert {"hook", "flared"} <= set(fams) and len(set(fams)) > 2
     assert [p.flick for p in plans] == [{"hook": HOOK_FLICK, "flared": FOOT_FLICK}.get(f) for f in fams]
+
+
+def test_a_plan_writer_counts_a_bead_where_the_footprint_necks_and_swells_at_the_end():
+    """Asked for beads, a PlanWriter measures the footprint across the travel each frame: a stroke
+    whose press eases almost off the paper near its end and presses again ends in a bead, one
+    pressed evenly does not; each is tallied in its family."""
+    from brushwork.glyphs.model import Glyph, Stroke
+    from brushwork.writing.plan import GlyphPlan
+
+    st = Style.load("kai")
+    line = np.array([[0.2, 0.5], [0.8, 0.5]])
+    glyph = Glyph("一", ord("一"), [Stroke(line, "㇐"), Stroke(line - [0.0, 0.2], "㇐")], "test", (0.0, 0.0, 1.0, 1.0))
+    even = _plan(press=0.3)
+    necked = _plan(press=0.3)
+    necked.controls["press"] = [0.3, 0.3, 0.3, 0.02, 0.45]
+    beads: dict = {}
+    PlanWriter(st, InkGrid(256, st.em_mm), beads=beads).write(glyph, GlyphPlan("一", [even, necked], "kai"))
+    assert beads == {"plain": [1, 2]}

@@ -305,9 +305,8 @@ def table(result: dict) -> str:
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["ink_beads"].items())
              + " (the outlines themselves, counted alike: "
              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["outline_beads"].items()) + ")",
-             ("beads at exits (strokes whose footprint necks and swells again at the end): "
-              + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items())) if result["beads"] else
-             "beads at exits by the frame-by-frame counter: none taken (the style writes from plans; the ink's count is above)",
+             "beads at exits (strokes whose footprint necks and swells again at the end): "
+             + "  ".join(f"{fam} {b}/{n}" for fam, (b, n) in result["beads"].items()),
              f"solver: {result['solver']['steps_at_q_max']} of {result['solver']['steps']} steps at q_max, "
              f"{result['solver']['substeps']} sub-steps, deepest penetration "
              f"{result['solver']['max_penetration_mm']:.4f} mm",

@@ -78,6 +78,7 @@ class Writer:
         self.ending_area = None           # mm2: the footprint's area on the last frame of a stroke's end (_collapsed)
         self.corner_press = 0.0           # L: the press at a hook's corner, eased from along its flick
         self.beads: dict = {}             # stroke family -> [strokes ending in a bead, strokes]
+        self.count_planned_beads = False  # planned strokes tallied in beads too (PlanWriter's beads)
         self.solver = solver_tally()      # the solver over every frame written (brush.tally_step)
         self.planning = False             # rehearsing a stroke (no deposit, no tallies)
         self.rehearsed = 0                # solver steps spent rehearsing
@@ -395,7 +396,8 @@ class Writer:
         with its bottom-left corner at `origin_mm`; on_stroke as in write."""
         from .planned import PlanWriter
 
-        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm, self.solver)
+        writer = PlanWriter(self.style, self.paper, self.brush, origin_mm, self.solver,
+                            self.beads if self.count_planned_beads else None)
         writer.write(glyph, plan, on_stroke)
         self.frames += writer.frames
 

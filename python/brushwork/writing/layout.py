@@ -76,6 +76,7 @@ def text_paper(glyphs: list, size: int = 1024, style: Style | str = "kai", seed:
                              f"character(s) at {size} px")
         paper.clear()
     writer = Writer(paper, st, seed)
+    writer.count_planned_beads = counts is not None
     for k, glyph in enumerate(glyphs):
         if plans is not None:       # a folder of plan files (brushwork fit): written in the source's em box
             writer.write_planned(glyph, load_plan(plans, glyph.char, len(glyph.strokes)), (k * st.em_mm, 0.0))

@@ -13,10 +13,11 @@ import cv2
 import numpy as np
 
 from ..brush import Brush, Pose, between, solver_tally, tally_step
+from ..glyphs.score import beaded
 from ..paper import Paper
 from .plan import GlyphPlan, Median, StrokePlan, sample
-from .style import Style
-from .targets import loop_area
+from .style import Style, family
+from .targets import _centroid_and_width, loop_area
 
 TRAVEL_STEP_MM = 4.0      # mm the root moves a frame in the air between strokes
 TRAVEL_FRAMES = (2, 10)   # frames of one travel, fewest and most
@@ -77,16 +78,20 @@ class InkGrid:
 class PlanWriter:
     """Writes glyphs from plans with one brush, its state (bend, plasticity, ink) carried from
     stroke to stroke; `sink` is a Paper (deposit, end_stroke) or an InkGrid. `solver`: a
-    brush.solver_tally that receives every step's figures (a new one when None)."""
+    brush.solver_tally that receives every step's figures (a new one when None). `beads`: a dict
+    that receives, by stroke family, [strokes ending in a bead, strokes] of the strokes `write`
+    writes, from the footprint's width across the travel a frame (glyphs.score.beaded; a
+    footprint a frame, ~10% of the time); None: not counted."""
 
     def __init__(self, style: Style, sink, brush: Brush | None = None, origin_mm=(0.0, 0.0),
-                 solver: dict | None = None):
+                 solver: dict | None = None, beads: dict | None = None):
         self.style, self.sink = style, sink
         self.origin = np.asarray(origin_mm, dtype=float)
         self.brush = brush if brush is not None else Brush(style.model())
         self.L = self.brush.model.tuft_length
         self.frames = 0
         self.solver = solver if solver is not None else solver_tally()
+        self.beads = beads
         self.pose: Pose | None = None      # the last frame's pose
 
     def medians_mm(self, glyph) -> list[Median]:
@@ -142,8 +147,10 @@ class PlanWriter:
     def _end(self) -> None:
         self.sink.end_stroke()
 
-    def write_stroke(self, plan: StrokePlan, median: Median, finish: bool = True) -> None:
-        """Travel to the stroke's first pose and write it; `finish`: end the stroke on the sink."""
+    def write_stroke(self, plan: StrokePlan, median: Median, finish: bool = True) -> list[float]:
+        """Travel to the stroke's first pose and write it; `finish`: end the stroke on the sink.
+        Returns, when beads are counted, the footprint's width across the travel (mm) a frame
+        from the first touch on; else []."""
         st = self.style
         f = sample(plan, median, self.L, st.step_mm, st.hover)
         self.travel(f.root[0], float(f.azimuth[0]), float(f.tilt[0]))
@@ -153,11 +160,17 @@ class PlanWriter:
         # blend pinches
         landed = int(np.argmax(f.on)) if f.on.any() else len(f.on)
         split = isinstance(self.sink, Paper)
+        widths: list[float] = []
         for j in range(1, len(f.press)):
             pose = Pose(tuple(f.root[j]), float(f.tilt[j]), float(f.azimuth[j]), float(f.twist[j]))
             self._step(pose, split=split and j > landed)
+            if self.beads is not None:
+                seen = _centroid_and_width(self.brush.footprint(), math.radians(f.azimuth[j]))
+                if seen is not None or widths:
+                    widths.append(0.0 if seen is None else seen[1])
         if finish:
             self._end()
+        return widths
 
     def write(self, glyph, plan: GlyphPlan, on_stroke=None) -> None:
         """glyph's strokes from their plans, in order; on_stroke(k), when given, is called once
@@ -166,6 +179,10 @@ class PlanWriter:
             raise ValueError(f"{glyph.char}: {len(plan.strokes)} stroke plans for {len(glyph.strokes)} strokes")
         self.brush.load_ink(total_mm2=self.style.ink_mm2, excess=0.0)
         for k, (p, m) in enumerate(zip(plan.strokes, self.medians_mm(glyph))):
-            self.write_stroke(p, m)
+            widths = self.write_stroke(p, m)
+            if self.beads is not None:
+                tally = self.beads.setdefault(family(glyph.strokes[k].kind), [0, 0])
+                tally[0] += int(beaded(widths))
+                tally[1] += 1
             if on_stroke is not None:
                 on_stroke(k)
