@@ -61,6 +61,14 @@ def beaded(widths_mm) -> bool:
     return False
 
 
+def tally_bead(beads: dict, fam: str, widths_mm) -> None:
+    """Add one stroke of family `fam` to `beads` (family -> [strokes ending in a bead, strokes]),
+    beaded or not by its footprint's widths a frame (beaded)."""
+    tally = beads.setdefault(fam, [0, 0])
+    tally[0] += int(beaded(widths_mm))
+    tally[1] += 1
+
+
 # the parts of a stroke, by arc length along its median: head, body, end
 PARTS = ("head", "body", "end")
 HEAD_END_FRACTION = 0.15

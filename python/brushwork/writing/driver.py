@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from ..brush import Brush, Pose, solver_tally, tally_step
-from ..glyphs.score import beaded
+from ..glyphs.score import tally_bead
 from ..paper import Paper
 from ..recorded import PRESS_MAX, root_height
 from .plan import FLICK_FROM, lowpass
@@ -201,9 +201,7 @@ class Writer:
         j = self._along(aim, heading, w_nom, tapering, plan)
         self._lift(aim.point(self, j), heading[aim.on_median(j)], tapering)
         self.paper.end_stroke()
-        tally = self.beads.setdefault(family(kind), [0, 0])
-        tally[0] += int(beaded(self.widths))
-        tally[1] += 1
+        tally_bead(self.beads, family(kind), self.widths)
 
     # what a rehearsal must put back: the brush's state and the writer's own
     _REHEARSED = ("press", "offset_local", "behind", "ahead", "touching", "touched_in_stroke", "frames", "holds",

@@ -13,7 +13,7 @@ import cv2
 import numpy as np
 
 from ..brush import Brush, Pose, between, solver_tally, tally_step
-from ..glyphs.score import beaded
+from ..glyphs.score import tally_bead
 from ..paper import Paper
 from .plan import GlyphPlan, Median, StrokePlan, sample
 from .style import Style, family
@@ -181,8 +181,6 @@ class PlanWriter:
         for k, (p, m) in enumerate(zip(plan.strokes, self.medians_mm(glyph))):
             widths = self.write_stroke(p, m)
             if self.beads is not None:
-                tally = self.beads.setdefault(family(glyph.strokes[k].kind), [0, 0])
-                tally[0] += int(beaded(widths))
-                tally[1] += 1
+                tally_bead(self.beads, family(glyph.strokes[k].kind), widths)
             if on_stroke is not None:
                 on_stroke(k)
